@@ -1,0 +1,42 @@
+# Dependencies point one way (DESIGN.md):
+#   tools -> firmware -> slam_core -> hal
+#                    |-> drivers  -> hal
+#                    `-> sim_hal  -> hal
+# Each part lists the project parts it must never link; configuring fails if one does.
+set(CLEANSLAM_FORBIDDEN_cleanslam_hal cleanslam_slam_core cleanslam_drivers cleanslam_sim_hal cleanslam_firmware)
+set(CLEANSLAM_FORBIDDEN_cleanslam_slam_core cleanslam_drivers cleanslam_sim_hal cleanslam_firmware)
+set(CLEANSLAM_FORBIDDEN_cleanslam_drivers cleanslam_slam_core cleanslam_sim_hal cleanslam_firmware)
+set(CLEANSLAM_FORBIDDEN_cleanslam_sim_hal cleanslam_slam_core cleanslam_drivers cleanslam_firmware)
+
+function(_cleanslam_links_of target out)
+  set(result "")
+  foreach(prop LINK_LIBRARIES INTERFACE_LINK_LIBRARIES)
+    get_target_property(libs ${target} ${prop})
+    if(libs)
+      foreach(lib IN LISTS libs)
+        if(TARGET ${lib})
+          get_target_property(aliased ${lib} ALIASED_TARGET)
+          if(aliased)
+            set(lib ${aliased})
+          endif()
+        endif()
+        list(APPEND result ${lib})
+      endforeach()
+    endif()
+  endforeach()
+  set(${out} ${result} PARENT_SCOPE)
+endfunction()
+
+function(cleanslam_enforce_layering)
+  foreach(part cleanslam_hal cleanslam_slam_core cleanslam_drivers cleanslam_sim_hal)
+    if(NOT TARGET ${part})
+      continue()
+    endif()
+    _cleanslam_links_of(${part} links)
+    foreach(forbidden IN LISTS CLEANSLAM_FORBIDDEN_${part})
+      if(forbidden IN_LIST links)
+        message(FATAL_ERROR "Layering violation: ${part} links ${forbidden}; see DESIGN.md (dependencies point one way)")
+      endif()
+    endforeach()
+  endforeach()
+endfunction()

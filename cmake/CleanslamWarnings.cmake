@@ -1,0 +1,16 @@
+# Strict warnings for the project's own targets; third-party headers come in as SYSTEM.
+add_library(cleanslam_warnings INTERFACE)
+target_compile_options(cleanslam_warnings INTERFACE
+  -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wnon-virtual-dtor -Wold-style-cast
+  -Wcast-align -Wunused -Woverloaded-virtual -Wnull-dereference -Wdouble-promotion -Wformat=2
+  $<$<BOOL:${CLEANSLAM_WERROR}>:-Werror>)
+
+if(CLEANSLAM_SANITIZE)
+  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
+# cleanslam_part(NAME ...) gives a project target the warnings; every part and tool uses it.
+function(cleanslam_warnings target)
+  target_link_libraries(${target} PRIVATE cleanslam_warnings)
+endfunction()
