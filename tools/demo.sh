@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# The main job on a PC: a simulated robot cleans a room, the firmware's own pipeline estimates its
+# path from the recorded sensors, and the evaluation says how far off SLAM and dead reckoning were.
+#   tools/demo.sh [SCENARIO]      default: default-room; results and plots in out/demo/
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scenario=${1:-default-room}
+out=out/demo
+bin=build/host-release/bin
+
+step() { printf '\n== %s\n' "$*"; }
+
+step "setup"
+tools/setup.sh
+
+step "build (host-release)"
+cmake --preset host-release >/dev/null
+cmake --build --preset host-release -j "$(nproc)" | grep -E '^(FAILED|ninja: build stopped)|error' || true
+for exe in cleanslam-sim cleanslam-replay cleanslam-eval; do
+  [ -x "$bin/$exe" ] || { echo "demo: $bin/$exe was not built" >&2; exit 1; }
+done
+
+rm -rf "$out"
+mkdir -p "$out"
+step "simulate: $scenario -> $out/dataset"
+"$bin/cleanslam-sim" "$scenario" "$out/dataset"
+
+step "replay the dataset through the firmware pipeline -> $out/run"
+"$bin/cleanslam-replay" "$out/dataset" --out "$out/run"
+
+step "evaluate against ground truth"
+"$bin/cleanslam-eval" --gt "$out/dataset/groundtruth.csv" --est "$out/run/trajectory.tum" --json >"$out/slam.json"
+"$bin/cleanslam-eval" --gt "$out/dataset/groundtruth.csv" --est "$out/run/dead_reckoning.tum" --json >"$out/dead_reckoning.json"
+python3 - "$out/slam.json" "$out/dead_reckoning.json" <<'PY'
+import json, sys
+slam, dr = (json.load(open(p)) for p in sys.argv[1:3])
+rows = [("ATE RMSE [m]", "ate_rmse_m"), ("final position error [m]", "final_position_error_m"),
+        ("RPE per metre [m/m]", "rpe_per_m")]
+print(f"{'':28s}{'SLAM':>12s}{'dead reckoning':>18s}")
+for label, key in rows:
+    if key in slam and key in dr:
+        print(f"{label:28s}{slam[key]:12.4f}{dr[key]:18.4f}")
+if "path_length_m" in slam:
+    print(f"{'path length [m]':28s}{slam['path_length_m']:12.2f}")
+if slam.get("ate_rmse_m") and dr.get("ate_rmse_m"):
+    print(f"SLAM ATE is {dr['ate_rmse_m'] / slam['ate_rmse_m']:.1f}x smaller than dead reckoning's")
+PY
+
+step "plots -> $out/"
+python3 tools/plot/plot_run.py "$out/run" --gt "$out/dataset/groundtruth.csv" --out "$out"
+ls "$out"/*.png
