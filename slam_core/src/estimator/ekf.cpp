@@ -56,7 +56,6 @@ Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
   W_.setZero(kMaxStateDim, 2 * kMaxMeasDim);
   V_.setZero(2 * kMaxMeasDim, kMaxStateDim);
   PHt_.setZero(kMaxStateDim, kMaxMeasDim);
-  llt_ = decltype(llt_)(kMaxMeasDim);
   cross_.setZero(6, kMaxStateDim);
   new_rows_.setZero(3, kMaxStateDim);
   dx_.setZero(kMaxStateDim);
@@ -209,8 +208,7 @@ int Ekf::initialize_landmark(double u_px, double v_px, double depth_m, double ep
   Eigen::Matrix<double, 3, 6> T;
   const Eigen::Vector3d y = landmark_from_camera_point(pose, vc, &T);  // eq. 39, 41-42
   const Eigen::Matrix3d Rv = measurement_covariance(
-      ct, eps_ct_m,
-      normal_noise(d, config_.eps_trk_px, config_.eps_cal_px, camera_.focal_px()));
+      ct, eps_ct_m, normal_noise(d, config_.eps_trk_px, config_.eps_cal_px, camera_.focal_px()));
   Eigen::Matrix3d Py = T * P_.topLeftCorner<6, 6>() * T.transpose() + C * Rv * C.transpose();
   Py = 0.5 * (Py + Py.transpose()).eval();  // eq. 40
   if (!y.allFinite() || !Py.allFinite()) {
