@@ -1,7 +1,11 @@
 #include <pthread.h>
+#include <sys/mman.h>
+#include <ucontext.h>
 
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
+#include <cstring>
 #include <memory>
 
 #include <gtest/gtest.h>
@@ -16,25 +20,60 @@ namespace hal = cleanslam::hal;
 
 namespace {
 
-// Runs fn on a thread with a small stack: a megabyte temporary on the stack would crash it.
+// Runs fn on a small stack of its own with a guard page below it: a megabyte temporary on the stack
+// would crash the test. The stack is a ucontext, not a thread, because qemu-aarch64 7.2 user mode
+// hangs in pthread_create here; under ASan (which does not follow swapcontext) it is a thread.
+// Returns the bytes of stack fn touched (high-water mark), or 0 when not measured.
+void (*g_body)(void*) = nullptr;
+void* g_arg = nullptr;
+ucontext_t g_main_ctx;
+ucontext_t g_work_ctx;
+
+void context_entry() {
+  g_body(g_arg);
+}
+
 template <typename Fn>
-void run_with_small_stack(Fn& fn) {
+std::size_t run_with_small_stack(Fn& fn) {
 #if defined(__SANITIZE_ADDRESS__)
   constexpr std::size_t kStack = 1024 * 1024;  // ASan's redzones inflate every frame
-#else
-  constexpr std::size_t kStack = 256 * 1024;
-#endif
   pthread_attr_t attr;
-  ASSERT_EQ(pthread_attr_init(&attr), 0);
-  ASSERT_EQ(pthread_attr_setstacksize(&attr, kStack), 0);
+  EXPECT_EQ(pthread_attr_init(&attr), 0);
+  EXPECT_EQ(pthread_attr_setstacksize(&attr, kStack), 0);
   pthread_t thread;
   auto trampoline = [](void* p) -> void* {
     (*static_cast<Fn*>(p))();
     return nullptr;
   };
-  ASSERT_EQ(pthread_create(&thread, &attr, trampoline, &fn), 0);
-  ASSERT_EQ(pthread_join(thread, nullptr), 0);
+  EXPECT_EQ(pthread_create(&thread, &attr, trampoline, &fn), 0);
+  EXPECT_EQ(pthread_join(thread, nullptr), 0);
   pthread_attr_destroy(&attr);
+  return 0;
+#else
+  constexpr std::size_t kStack = 256 * 1024;
+  constexpr std::size_t kGuard = 64 * 1024;
+  constexpr unsigned char kFill = 0xA5;
+  void* mem =
+      mmap(nullptr, kStack + kGuard, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  EXPECT_NE(mem, MAP_FAILED);
+  auto* base = static_cast<unsigned char*>(mem);
+  EXPECT_EQ(mprotect(base, kGuard, PROT_NONE), 0);
+  std::memset(base + kGuard, kFill, kStack);
+  g_body = [](void* p) { (*static_cast<Fn*>(p))(); };
+  g_arg = &fn;
+  EXPECT_EQ(getcontext(&g_work_ctx), 0);
+  g_work_ctx.uc_stack.ss_sp = base + kGuard;
+  g_work_ctx.uc_stack.ss_size = kStack;
+  g_work_ctx.uc_link = &g_main_ctx;
+  makecontext(&g_work_ctx, context_entry, 0);
+  EXPECT_EQ(swapcontext(&g_main_ctx, &g_work_ctx), 0);
+  std::size_t untouched = 0;
+  while (untouched < kStack && base[kGuard + untouched] == kFill) {
+    ++untouched;
+  }
+  munmap(mem, kStack + kGuard);
+  return kStack - untouched;
+#endif
 }
 
 struct EkfRun {
@@ -96,7 +135,8 @@ TEST(EstimatorAllocation, EkfLongRunAllocatesNothing) {
   ekf->reset(cs::Vector6d::Zero(), P0);
   EkfRun run;
   run.ekf = ekf.get();
-  run_with_small_stack(run);
+  const std::size_t stack = run_with_small_stack(run);
+  std::printf("EKF run: stack high-water mark %zu bytes of 256 KiB\n", stack);
   EXPECT_EQ(run.allocations, 0U);
   EXPECT_GT(run.initialized, hal::kMaxLandmarks);  // the pool was full and recycled
   EXPECT_GT(ekf->counters().landmarks_replaced, 0U);
@@ -146,7 +186,8 @@ TEST(EstimatorAllocation, DeadReckonerLongRunAllocatesNothing) {
   cs::DeadReckoner dr(calibration, cs::DeadReckoningConfig{});
   DeadReckonerRun run;
   run.dr = &dr;
-  run_with_small_stack(run);
+  const std::size_t stack = run_with_small_stack(run);
+  std::printf("dead reckoner run: stack high-water mark %zu bytes of 256 KiB\n", stack);
   EXPECT_EQ(run.allocations, 0U);
   EXPECT_NEAR(run.distance, 59.503 * 0.2, 1e-3);  // up to the last take
 }
