@@ -18,16 +18,17 @@
 //
 // Findings (50 runs; this test runs 20 steps, the variations below were measured with 30):
 // - Landmarks entered at their true depth with 0.1 m along the ray: the average pose NEES is
-//   6.01 (20 steps; band 5.78..6.23 over all steps; every step inside its per-step band). The
-//   prediction, update and initialization equations are consistent.
+//   6.01 on x86-64 and 5.85 on aarch64 (FMA changes the random paths), 20 steps, every step inside
+//   its per-step band 5.08..7.00: prediction, update and initialization are consistent.
 // - The paper's undelayed initialization (assumed depth 5 m, eps_ct 30 m; true depths 1-9 m): the
-//   average pose NEES is 21.7 (20 steps; 22 with 30), 3.6 times the 6 expected, mostly yaw
-//   (normalized yaw error 9.6), then pitch (3.5) and z (3.0). It does not depend on eps_ct (3 m:
-//   21, 100 m: 22) and stays near 20 without pixel noise, so it is linearization error, not noise:
-//   the Jacobian of eq. 23 uses the estimated landmark vector Delta_j, which is metres off along
-//   the ray while the depth is unknown, and the product of that error with the orientation error
-//   (Assumption 1 of Section 2.5 is violated) exceeds eps_cn. Inflating eps_cn as the paper's
-//   experiments did (eps_cn of 10 cm) restores it: eps_cal 0.5 px gives 15, 1 px 9.9, 2 px 7.2.
+//   average pose NEES is 21.7 on x86-64, 26.0 on aarch64 (20 steps; 22 with 30 on x86-64), 3.6-4.3
+//   times the 6 expected, mostly yaw (normalized yaw error 9.6), then pitch (3.5) and z (3.0). It
+//   does not depend on eps_ct (3 m: 21, 100 m: 22) and stays near 20 without pixel noise, so it is
+//   linearization error, not noise: the Jacobian of eq. 23 uses the estimated landmark vector
+//   Delta_j, which is metres off along the ray while the depth is unknown, and the product of that
+//   error with the orientation error (Assumption 1 of Section 2.5 is violated) exceeds eps_cn.
+//   Inflating eps_cn as the paper's experiments did (eps_cn of 10 cm) restores it: eps_cal 0.5 px
+//   gives 15, 1 px 9.9, 2 px 7.2.
 namespace cs = cleanslam::slam_core;
 namespace hal = cleanslam::hal;
 
@@ -195,12 +196,12 @@ NeesSummary monte_carlo(bool known_depth) {
 
 TEST(EkfConsistency, PoseNeesInsideChiSquareBandWithLandmarkDepthsKnown) {
   const NeesSummary s = monte_carlo(true);
-  // Over all steps and runs: chi2(6 kRuns kSteps) / (kRuns kSteps).
-  const double n_all = static_cast<double>(kRuns * kSteps);
+  // The steps of one run are correlated, so the time average is held to the per-step band of
+  // kRuns independent runs, chi2(6 kRuns) / kRuns, not to a band of kRuns * kSteps samples.
   EXPECT_GT(s.fused, kRuns * kSteps * 5);
   EXPECT_GE(s.inside, kSteps * 8 / 10);
-  EXPECT_GT(s.overall, chi2_quantile(6.0 * n_all, -1.959964) / n_all);
-  EXPECT_LT(s.overall, chi2_quantile(6.0 * n_all, 1.959964) / n_all);
+  EXPECT_GT(s.overall, chi2_quantile(6.0 * kRuns, -1.959964) / kRuns);
+  EXPECT_LT(s.overall, chi2_quantile(6.0 * kRuns, 1.959964) / kRuns);
 }
 
 TEST(EkfConsistency, PoseNeesOfUndelayedInitializationIsKnownOverconfident) {
