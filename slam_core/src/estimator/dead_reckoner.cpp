@@ -15,6 +15,26 @@ double seconds(hal::TimeNs dt) {
 }
 }  // namespace
 
+Vector6d camera_increment_from_body(const Vector6d& body, const Eigen::Matrix3d& R_body_c,
+                                    const Eigen::Vector3d& t_body_c, Matrix6d* J) {
+  // T_c0c1 = T_bc^-1 T_b0b1 T_bc.
+  const Eigen::Matrix3d Rcb = R_body_c.transpose();
+  const Eigen::Matrix3d R = rotation_zyx(body(3), body(4), body(5));
+  Vector6d u;
+  u.head<3>() = Rcb * (body.head<3>() + R * t_body_c - t_body_c);
+  u.tail<3>() = Rcb * body.tail<3>();
+  if (J != nullptr) {
+    const RotationZyxDerivatives dR = rotation_zyx_derivatives(body(3), body(4), body(5));
+    J->setZero();
+    J->topLeftCorner<3, 3>() = Rcb;
+    J->block<3, 1>(0, 3) = Rcb * dR.d_roll * t_body_c;
+    J->block<3, 1>(0, 4) = Rcb * dR.d_pitch * t_body_c;
+    J->block<3, 1>(0, 5) = Rcb * dR.d_yaw * t_body_c;
+    J->bottomRightCorner<3, 3>() = Rcb;
+  }
+  return u;
+}
+
 DeadReckoner::DeadReckoner(const hal::Calibration& calibration, const DeadReckoningConfig& config)
     : calibration_(calibration), config_(config) {
   const CameraModel camera(calibration.camera);
@@ -275,19 +295,13 @@ OdometryIncrement DeadReckoner::camera_increment(const Increment& in, double dt_
   Pb(3, 3) = rp * rp * in.distance;
   Pb(4, 4) = rp * rp * in.distance;
 
-  // Camera increment: T_c0c1 = T_bc^-1 T_b0b1 T_bc.
-  const Eigen::Matrix3d Rcb = R_body_c_.transpose();
-  const Eigen::Matrix3d Rz = rotation_zyx(0.0, 0.0, in.yaw);
-  const RotationZyxDerivatives dR = rotation_zyx_derivatives(0.0, 0.0, in.yaw);
+  Vector6d body;
+  body << in.x, in.y, 0.0, 0.0, 0.0, in.yaw;
+  Matrix6d J;
+  const Vector6d u = camera_increment_from_body(body, R_body_c_, t_body_c_, &J);
   OdometryIncrement out;
-  out.dx_c = Rcb * (Eigen::Vector3d(in.x, in.y, 0.0) + Rz * t_body_c_ - t_body_c_);
-  out.dpsi_c = Rcb * Eigen::Vector3d(0.0, 0.0, in.yaw);
-  Matrix6d J = Matrix6d::Zero();
-  J.topLeftCorner<3, 3>() = Rcb;
-  J.block<3, 1>(0, 3) = Rcb * dR.d_roll * t_body_c_;
-  J.block<3, 1>(0, 4) = Rcb * dR.d_pitch * t_body_c_;
-  J.block<3, 1>(0, 5) = Rcb * dR.d_yaw * t_body_c_;
-  J.bottomRightCorner<3, 3>() = Rcb;
+  out.dx_c = u.head<3>();
+  out.dpsi_c = u.tail<3>();
   const Matrix6d Q = J * Pb * J.transpose();
   out.Q = 0.5 * (Q + Q.transpose());
   out.distance_m = in.distance;

@@ -9,6 +9,7 @@
 
 #include "cleanslam/slam_core/dead_reckoner.hpp"
 #include "cleanslam/slam_core/geometry.hpp"
+#include "numeric_jacobian.hpp"
 
 namespace cs = cleanslam::slam_core;
 namespace hal = cleanslam::hal;
@@ -277,4 +278,25 @@ TEST(DeadReckoner, DetectsStandingStillAndEstimatesBias) {
   dr.take_increment(7000 * kMs);
   drive.run_until(9000 * kMs);
   EXPECT_LT(std::abs(dr.take_increment(9000 * kMs).dpsi_c.z()), 2e-3);
+}
+
+TEST(DeadReckoner, CameraIncrementJacobianMatchesNumeric) {
+  // A camera tilted and offset from the body: the lever arm couples rotation into translation.
+  const Eigen::Matrix3d R_bc = cs::rotation_zyx(0.05, -0.2, 0.1);
+  const Eigen::Vector3d t_bc(0.1, -0.03, 0.08);
+  cs::Vector6d body;
+  body << 0.12, 0.02, 0.001, 0.01, -0.02, 0.7;
+  cs::Matrix6d J;
+  cs::camera_increment_from_body(body, R_bc, t_bc, &J);
+  const auto f = [&](const cs::Vector6d& b) {
+    return cs::camera_increment_from_body(b, R_bc, t_bc, nullptr);
+  };
+  EXPECT_LT((cleanslam::test::numeric_jacobian<6, 6>(f, body) - J).norm(), 1e-8);
+  // Turning in place moves the camera on a circle around the wheel axis.
+  cs::Vector6d turn = cs::Vector6d::Zero();
+  turn(5) = std::acos(-1.0);
+  const cs::Vector6d u =
+      cs::camera_increment_from_body(turn, Eigen::Matrix3d::Identity(), t_bc, nullptr);
+  EXPECT_NEAR(u(0), -0.2, 1e-12);
+  EXPECT_NEAR(u(1), 0.06, 1e-12);
 }

@@ -8,6 +8,7 @@
 #include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/hal/samples.hpp"
 #include "cleanslam/hal/time.hpp"
+#include "cleanslam/slam_core/geometry.hpp"
 #include "cleanslam/slam_core/odometry_increment.hpp"
 
 // The prediction input (Section 2.3): distance from the differential-drive encoders, heading
@@ -42,6 +43,12 @@ struct DeadReckoningConfig {
   // sample (and no further back than this before it).
   double max_extrapolation_s = 0.2;
 };
+
+// u = (dx_c, dpsi_c) of a body increment (dx, dy, dz, droll, dpitch, dyaw), expressed in the
+// first body frame, through the extrinsic: dx_c = R_bc^T (d + R_b01 t_bc - t_bc) and
+// dpsi_c = R_bc^T (droll, dpitch, dyaw) (small angles, as eq. 4 uses them); J = du / d body.
+Vector6d camera_increment_from_body(const Vector6d& body, const Eigen::Matrix3d& R_body_c,
+                                    const Eigen::Vector3d& t_body_c, Matrix6d* J);
 
 struct DeadReckonerCounters {
   std::uint64_t gyro_accepted = 0;
