@@ -18,6 +18,12 @@ ModelStatus LandmarkModel::counted(ModelStatus status) {
     case ModelStatus::kNotInitialized:
       ++rejections_.not_initialized;
       break;
+    case ModelStatus::kUnsupportedMotion:
+      ++rejections_.unsupported_motion;
+      break;
+    case ModelStatus::kRejectedByFilter:
+      ++rejections_.rejected_by_filter;
+      break;
   }
   return status;
 }

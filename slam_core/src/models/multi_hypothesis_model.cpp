@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "cleanslam/slam_core/models/conventional_model.hpp"
 #include "cleanslam/slam_core/models/pixel_update.hpp"
@@ -53,7 +54,7 @@ ModelStatus MultiHypothesisModel::update(const KnownPose& pose, const Eigen::Vec
   std::array<Gaussian3, kMaxHypotheses> next{};
   std::array<double, kMaxHypotheses> log_weight{};
   std::size_t kept = 0;
-  double max_log_weight = -INFINITY;
+  double max_log_weight = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < count_; ++i) {
     Eigen::Vector2d h;
     Eigen::Matrix<double, 2, 3> H;

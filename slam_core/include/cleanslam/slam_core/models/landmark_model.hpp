@@ -14,6 +14,8 @@ enum class ModelStatus : std::uint8_t {
   kBehindCamera,
   kSingularInnovation,
   kNotInitialized,
+  kUnsupportedMotion,
+  kRejectedByFilter,
 };
 
 struct RejectionCounts {
@@ -21,6 +23,8 @@ struct RejectionCounts {
   std::uint32_t behind_camera = 0;
   std::uint32_t singular_innovation = 0;
   std::uint32_t not_initialized = 0;
+  std::uint32_t unsupported_motion = 0;
+  std::uint32_t rejected_by_filter = 0;
 };
 
 // One landmark seen from a known camera pose: the interface the paper's comparison (Section 4.3)
