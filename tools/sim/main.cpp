@@ -4,6 +4,7 @@
 
 #include <charconv>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -17,7 +18,9 @@ void usage(std::FILE* out) {
   std::fprintf(out,
                "usage: cleanslam-sim SCENARIO OUT_DIR [--seed N] [--set key=value ...]\n"
                "  SCENARIO  a built-in scenario name or a scenario YAML file\n"
-               "  OUT_DIR   dataset folder to write (created; existing files are overwritten)\n"
+               "  OUT_DIR   dataset folder to write (created; must be empty or absent)\n"
+               "  --force   write into a non-empty OUT_DIR, first deleting the dataset files\n"
+               "            (sensors.yaml, *.csv, cam0/) of an earlier run there\n"
                "  --seed N  override the scenario's seed\n"
                "  --set k=v override one scenario value, e.g. --set camera.rate_hz=1\n"
                "  --list    print the built-in scenarios\n");
@@ -29,6 +32,7 @@ int main(int argc, char** argv) {
   namespace sim = cleanslam::sim_hal::sim;
   std::vector<std::string> positional;
   std::vector<std::string> overrides;
+  bool force = false;
   for (int i = 1; i < argc; ++i) {
     const std::string_view a = argv[i];
     if (a == "-h" || a == "--help") {
@@ -38,6 +42,10 @@ int main(int argc, char** argv) {
     if (a == "--list") {
       for (const auto& n : sim::builtin_scenario_names()) std::printf("%s\n", n.c_str());
       return 0;
+    }
+    if (a == "--force") {
+      force = true;
+      continue;
     }
     if (a == "--seed" || a == "--set") {
       if (i + 1 >= argc) {
@@ -75,6 +83,29 @@ int main(int argc, char** argv) {
   if (!scenario.ok()) {
     std::fprintf(stderr, "cleanslam-sim: %s\n", scenario.error().c_str());
     return 1;
+  }
+  {
+    namespace fs = std::filesystem;
+    const fs::path out(positional[1]);
+    std::error_code ec;
+    if (fs::exists(out, ec) && !fs::is_empty(out, ec)) {
+      if (!force) {
+        std::fprintf(
+            stderr,
+            "cleanslam-sim: %s: folder is not empty (use --force to replace a dataset there)\n",
+            positional[1].c_str());
+        return 1;
+      }
+      for (const char* f : {"sensors.yaml", "gyro.csv", "encoders.csv", "features.csv",
+                            "groundtruth.csv", "sim_landmarks.csv", "cam0"}) {
+        fs::remove_all(out / f, ec);
+        if (ec) {
+          std::fprintf(stderr, "cleanslam-sim: %s: cannot remove: %s\n", (out / f).c_str(),
+                       ec.message().c_str());
+          return 1;
+        }
+      }
+    }
   }
   const bool tty = isatty(STDERR_FILENO) != 0;
   int last_percent = -1;

@@ -282,7 +282,8 @@ Result<Scenario> load_scenario(const std::string& name_or_path,
   }
   r.report_unknown_keys();
   // In a scenario a misspelt key would silently keep a default: unknown keys are errors.
-  for (const std::string& w : diag.warnings) diag.errors.push_back(w);
+  for (const std::string& w : diag.warnings)
+    diag.errors.push_back(w.substr(0, w.rfind(", ignored")));
   auto positive = [&](double v, const char* key) {
     if (!(v > 0.0)) diag.errors.push_back(std::string(key) + ": must be positive");
   };

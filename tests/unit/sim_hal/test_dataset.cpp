@@ -404,3 +404,56 @@ TEST(DatasetSource, IsDeterministic) {
   EXPECT_FALSE(b->read(eb));
   EXPECT_EQ(n, 123);
 }
+
+// Garbled files are refused or read, never a crash (run under ASan/UBSan too).
+TEST(Dataset, GarbledFilesNeverCrash) {
+  TempDir dir;
+  make_dataset(dir.str(), 32, 24, DatasetWriter::ImageFormat::kPgm);
+  const std::vector<fs::path> files = {dir.path() / "sensors.yaml",
+                                       dir.path() / "gyro.csv",
+                                       dir.path() / "encoders.csv",
+                                       dir.path() / "features.csv",
+                                       dir.path() / "groundtruth.csv",
+                                       dir.path() / "cam0" / "data.csv",
+                                       dir.path() / "cam0" / "data" / "250000000.pgm"};
+  std::vector<std::string> originals;
+  for (const auto& f : files) originals.push_back(read_file(f));
+  std::uint64_t state = 12345;
+  auto next = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return state >> 33;
+  };
+  const char kBytes[] = {',', '\n', '#', '-', '9', 'e', '.', ' ', ':', '[', '\0', '\xff', 'P'};
+  int refused = 0;
+  for (int round = 0; round < 300; ++round) {
+    const std::size_t k = next() % files.size();
+    std::string s = originals[k];
+    const int edits = 1 + static_cast<int>(next() % 4);
+    for (int e = 0; e < edits && !s.empty(); ++e) {
+      const std::size_t pos = next() % s.size();
+      switch (next() % 3) {
+        case 0:
+          s[pos] = kBytes[next() % sizeof(kBytes)];
+          break;
+        case 1:
+          s.erase(pos, 1 + next() % 8);
+          break;
+        default:
+          s.resize(pos);
+          break;
+      }
+    }
+    write_file(files[k], s);
+    auto src = DatasetSource::open(dir.str());
+    if (src.ok()) {
+      hal::SensorEvent ev;
+      while (src->read(ev)) {
+      }
+    } else {
+      ++refused;
+      EXPECT_FALSE(src.error().empty());
+    }
+    write_file(files[k], originals[k]);
+  }
+  EXPECT_GT(refused, 100);
+}
