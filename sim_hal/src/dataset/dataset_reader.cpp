@@ -100,7 +100,9 @@ Result<std::vector<CameraIndexRow>> read_camera_csv(const std::string& path) {
         if (!err.empty()) return err;
         const std::string_view name = row.text(1);
         if (name.empty()) return row.fail(1, "empty file name");
-        if (name.front() == '/' || name.find("..") != std::string_view::npos) {
+        const bool parent = name == ".." || name.starts_with("../") || name.ends_with("/..") ||
+                            name.find("/../") != std::string_view::npos;
+        if (name.front() == '/' || parent) {
           return row.fail(
               1, "file name must be relative to cam0/data/, got \"" + std::string(name) + "\"");
         }

@@ -214,6 +214,19 @@ TEST(Dataset, UnsortedTimeStamps) {
   EXPECT_TRUE(contains(load_error(dir2.str()), "groundtruth.csv:4: t_ns: time stamp"));
 }
 
+TEST(Dataset, ImageNamesStayInsideCam0Data) {
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "cam0" / "data.csv", ",750000000.png", ",../../gyro.csv");
+  const std::string e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "cam0/data.csv:3: filename: file name must be relative")) << e;
+  fs::create_directories(dir.path() / "cam0" / "data" / "a..b");
+  fs::rename(dir.path() / "cam0" / "data" / "750000000.png",
+             dir.path() / "cam0" / "data" / "a..b" / "x..png");
+  replace_in_file(dir.path() / "cam0" / "data.csv", ",../../gyro.csv", ",a..b/x..png");
+  EXPECT_EQ(load_error(dir.str()), "(loaded)");
+}
+
 TEST(Dataset, MissingImage) {
   TempDir dir;
   make_dataset(dir.str());
