@@ -168,6 +168,24 @@ Result<std::vector<GroundTruthPose>> read_groundtruth_csv(const std::string& pat
   return out;
 }
 
+Result<std::vector<LiftRow>> read_lift_csv(const std::string& path) {
+  using R = Result<std::vector<LiftRow>>;
+  std::vector<LiftRow> out;
+  Status s = read_csv(path, CsvSpec{{"t_ns", "lifted"}, {}}, [&](const CsvRow& row) -> std::string {
+    LiftRow l;
+    std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, l.t_ns);
+    if (!err.empty()) return err;
+    auto v = row.integer(1);
+    if (!v.ok()) return v.error();
+    if (*v != 0 && *v != 1) return row.fail(1, "expected 0 or 1, got " + std::to_string(*v));
+    l.lifted = *v == 1;
+    out.push_back(l);
+    return {};
+  });
+  if (!s) return R::failure(s.error());
+  return out;
+}
+
 std::string Dataset::image_path(const CameraIndexRow& row) const {
   return (fs::path(folder) / "cam0" / "data" / row.filename).string();
 }
@@ -222,6 +240,12 @@ Result<Dataset> load_dataset(const std::string& folder, const LoadOptions& optio
     auto f = read_features_csv(features_csv.string());
     if (!f.ok()) return R::failure(f.error());
     d.features = std::move(f).value();
+  }
+  const fs::path lift = root / "lift.csv";
+  if (fs::exists(lift, ec)) {
+    auto l = read_lift_csv(lift.string());
+    if (!l.ok()) return R::failure(l.error());
+    d.lift = std::move(l).value();
   }
   const fs::path gt = root / "groundtruth.csv";
   d.has_groundtruth = fs::exists(gt, ec);

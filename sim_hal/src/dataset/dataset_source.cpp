@@ -52,13 +52,14 @@ hal::TimeNs DatasetSource::next_event_time() const {
   if (next_encoder_ < dataset_.encoders.size()) {
     t = std::min(t, dataset_.encoders[next_encoder_].t_ns);
   }
+  if (next_lift_ < dataset_.lift.size()) t = std::min(t, dataset_.lift[next_lift_].t_ns);
   if (next_frame_ < frames_.size()) t = std::min(t, frames_[next_frame_].t_ns + frame_offset_ns_);
   return t == kNever ? -1 : t;
 }
 
 bool DatasetSource::exhausted() const {
   return next_gyro_ >= dataset_.gyro.size() && next_encoder_ >= dataset_.encoders.size() &&
-         next_frame_ >= frames_.size();
+         next_frame_ >= frames_.size() && next_lift_ >= dataset_.lift.size();
 }
 
 bool DatasetSource::read(hal::SensorEvent& out) {
@@ -73,6 +74,11 @@ bool DatasetSource::read(hal::SensorEvent& out) {
   if (next_encoder_ < dataset_.encoders.size() && dataset_.encoders[next_encoder_].t_ns == t) {
     out.kind = hal::SensorEvent::Kind::kEncoder;
     out.encoder = dataset_.encoders[next_encoder_++];
+    return true;
+  }
+  if (next_lift_ < dataset_.lift.size() && dataset_.lift[next_lift_].t_ns == t) {
+    out.kind = hal::SensorEvent::Kind::kLift;
+    out.lifted = dataset_.lift[next_lift_++].lifted;
     return true;
   }
   const FrameIndex& f = frames_[next_frame_];

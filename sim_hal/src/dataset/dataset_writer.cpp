@@ -84,13 +84,18 @@ void DatasetWriter::add_groundtruth(const GroundTruthPose& p) {
   groundtruth_ << '\n';
 }
 
+void DatasetWriter::add_lift(const LiftRow& l) {
+  if (!lift_.is_open()) {
+    if (!open_stream(lift_, "lift.csv", "#t_ns,lifted")) return;
+  }
+  lift_ << l.t_ns << ',' << (l.lifted ? 1 : 0) << '\n';
+}
+
 Status DatasetWriter::close() {
   std::string failed;
-  const std::pair<std::ofstream*, const char*> files[] = {{&gyro_, "gyro.csv"},
-                                                          {&encoders_, "encoders.csv"},
-                                                          {&camera_, "cam0/data.csv"},
-                                                          {&features_, "features.csv"},
-                                                          {&groundtruth_, "groundtruth.csv"}};
+  const std::pair<std::ofstream*, const char*> files[] = {
+      {&gyro_, "gyro.csv"},         {&encoders_, "encoders.csv"},       {&camera_, "cam0/data.csv"},
+      {&features_, "features.csv"}, {&groundtruth_, "groundtruth.csv"}, {&lift_, "lift.csv"}};
   for (const auto& [stream, name] : files) {
     if (!stream->is_open()) continue;
     stream->close();

@@ -142,6 +142,11 @@ Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_di
                                              quaternion_wxyz(b.rotation)});
     }
   }
+  // Wheel-drop state changes (lift.csv, a format extension).
+  for (const auto& [lift_start, lift_end] : traj.lift_intervals()) {
+    writer.add_lift(LiftRow{to_ns(t0 + lift_start), true});
+    writer.add_lift(LiftRow{to_ns(t0 + lift_end), false});
+  }
   report(0.1);
   // Gyro: (1 + scale) * mean true rate over the sample interval + bias (random walk) + white noise.
   {

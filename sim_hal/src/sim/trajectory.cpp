@@ -216,6 +216,14 @@ TrueState Trajectory::at(double t) const {
   return s;
 }
 
+std::vector<std::pair<double, double>> Trajectory::lift_intervals() const {
+  std::vector<std::pair<double, double>> out;
+  for (const Segment& s : segments_) {
+    if (s.p.lift) out.emplace_back(s.t0, s.t0 + s.p.duration);
+  }
+  return out;
+}
+
 Pose3 Trajectory::body_pose(const TrueState& s) {
   return Pose3{rot_z(s.yaw), s.position};
 }

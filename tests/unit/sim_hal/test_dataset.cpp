@@ -398,6 +398,29 @@ TEST(DatasetSource, ImageVanishingWhileStreamingIsCountedNotFatal) {
   EXPECT_TRUE(contains(src->last_error(), "750000000.png"));
 }
 
+TEST(DatasetSource, LiftEventsFromLiftCsv) {
+  TempDir dir;
+  make_dataset(dir.str());
+  write_file(dir.path() / "lift.csv", "#t_ns,lifted\n300000000,1\n600000000,0\n");
+  auto src = DatasetSource::open(dir.str());
+  ASSERT_TRUE(src.ok()) << src.error();
+  hal::SensorEvent ev;
+  std::vector<std::pair<hal::TimeNs, bool>> lifts;
+  hal::TimeNs t_before = -1;
+  while (true) {
+    const hal::TimeNs t = src->next_event_time();
+    if (!src->read(ev)) break;
+    EXPECT_GE(t, t_before);
+    t_before = t;
+    if (ev.kind == hal::SensorEvent::Kind::kLift) lifts.emplace_back(t, ev.lifted);
+  }
+  ASSERT_EQ(lifts.size(), 2U);
+  EXPECT_EQ(lifts[0], std::make_pair(hal::TimeNs{300000000}, true));
+  EXPECT_EQ(lifts[1], std::make_pair(hal::TimeNs{600000000}, false));
+  write_file(dir.path() / "lift.csv", "#t_ns,lifted\n300000000,2\n");
+  EXPECT_TRUE(contains(load_error(dir.str()), "lift.csv:2: lifted: expected 0 or 1, got 2"));
+}
+
 TEST(DatasetSource, IsDeterministic) {
   TempDir dir;
   make_dataset(dir.str());

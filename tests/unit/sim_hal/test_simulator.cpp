@@ -9,6 +9,7 @@
 
 #include "cleanslam/sim_hal/csv.hpp"
 #include "cleanslam/sim_hal/dataset.hpp"
+#include "cleanslam/sim_hal/dataset_source.hpp"
 #include "cleanslam/sim_hal/sim/random.hpp"
 #include "cleanslam/sim_hal/sim/scenario.hpp"
 #include "cleanslam/sim_hal/sim/sim_math.hpp"
@@ -395,6 +396,25 @@ TEST(Simulator, KidnappedRobotIsLiftedAndMoved) {
     if (e.t_ns <= lift_end) after = e.left_ticks;
   }
   EXPECT_LE(std::abs(hal::tick_delta(after, before)), 40);  // at most one sample's driving
+  // The wheel-drop switch: lift.csv says when, and the source turns it into kLift events.
+  ASSERT_EQ(d->lift.size(), 2U);
+  EXPECT_TRUE(d->lift[0].lifted);
+  EXPECT_FALSE(d->lift[1].lifted);
+  EXPECT_NEAR(hal::to_seconds(d->lift[0].t_ns - lift_start), 0.0, 0.011);
+  EXPECT_NEAR(hal::to_seconds(d->lift[1].t_ns - lift_end), 0.0, 0.011);
+  auto src = sim_hal::DatasetSource::open(dir.str());
+  ASSERT_TRUE(src.ok()) << src.error();
+  hal::SensorEvent ev;
+  std::vector<bool> lifts;
+  hal::TimeNs last = 0;
+  while (src->read(ev)) {
+    if (ev.kind == hal::SensorEvent::Kind::kLift) {
+      lifts.push_back(ev.lifted);
+      EXPECT_GE(src->next_event_time(), last);
+    }
+    last = src->next_event_time();
+  }
+  EXPECT_EQ(lifts, (std::vector<bool>{true, false}));
 }
 
 TEST(Simulator, SparsePoorOdometryIsSparse) {

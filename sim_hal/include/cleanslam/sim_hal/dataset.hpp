@@ -27,6 +27,13 @@ struct CameraIndexRow {
   int line = 0;          // in cam0/data.csv, for messages
 };
 
+// lift.csv (an extension of the format, optional): "#t_ns,lifted", one row per change of the
+// wheel-drop state, 1 when the robot leaves the floor, 0 when it is set down.
+struct LiftRow {
+  hal::TimeNs t_ns = 0;
+  bool lifted = false;
+};
+
 struct FeatureRow {
   hal::TimeNs t_ns = 0;
   hal::FeatureObservation observation;
@@ -45,6 +52,7 @@ Result<std::vector<hal::EncoderSample>> read_encoders_csv(const std::string& pat
 Result<std::vector<CameraIndexRow>> read_camera_csv(const std::string& path);
 Result<std::vector<FeatureRow>> read_features_csv(const std::string& path);
 Result<std::vector<GroundTruthPose>> read_groundtruth_csv(const std::string& path);
+Result<std::vector<LiftRow>> read_lift_csv(const std::string& path);
 
 // Everything of a dataset folder except the image pixels.
 struct Dataset {
@@ -55,6 +63,7 @@ struct Dataset {
   std::vector<CameraIndexRow> camera;  // empty when there is no cam0/
   std::vector<FeatureRow> features;    // empty when there is no features.csv
   std::vector<GroundTruthPose> groundtruth;
+  std::vector<LiftRow> lift;  // empty when there is no lift.csv
   bool has_camera = false;
   bool has_features = false;
   bool has_groundtruth = false;

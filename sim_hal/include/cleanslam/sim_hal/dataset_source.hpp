@@ -12,7 +12,8 @@
 namespace cleanslam::sim_hal {
 
 // A virtual-time hal::SensorSource over a dataset folder: gyro, encoder and frame events merged in
-// time order (at equal stamps: gyro, then encoder, then frame). A frame is every distinct stamp
+// time order (at equal stamps: gyro, then encoder, then lift, then frame); lift.csv (a format
+// extension) gives kLift events. A frame is every distinct stamp
 // of cam0/data.csv and features.csv; it carries the image of that stamp (loaded from disk when it
 // is its turn, one image in memory at a time) and/or the features of that stamp (at most
 // hal::kMaxFeaturesPerFrame; more are dropped with a warning at load). Frame stamps are the
@@ -54,6 +55,7 @@ class DatasetSource final : public hal::SensorSource {
   std::size_t next_gyro_ = 0;
   std::size_t next_encoder_ = 0;
   std::size_t next_frame_ = 0;
+  std::size_t next_lift_ = 0;
   GrayImage image_;
   std::vector<hal::FeatureObservation> frame_features_;
   int image_errors_ = 0;

@@ -30,6 +30,8 @@ class DatasetWriter {
   Status add_image(hal::TimeNs t_ns, const hal::GrayImageView& image);
   void add_features(hal::TimeNs t_ns, const hal::FeatureObservation* features, int count);
   void add_groundtruth(const GroundTruthPose& p);
+  // lift.csv (format extension): a change of the wheel-drop state.
+  void add_lift(const LiftRow& l);
   // Flushes and closes every file; reports a write error on any of them.
   Status close();
 
@@ -43,6 +45,7 @@ class DatasetWriter {
   std::ofstream camera_;
   std::ofstream features_;
   std::ofstream groundtruth_;
+  std::ofstream lift_;
 };
 
 }  // namespace cleanslam::sim_hal

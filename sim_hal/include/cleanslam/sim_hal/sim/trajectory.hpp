@@ -1,5 +1,6 @@
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "cleanslam/sim_hal/sim/random.hpp"
@@ -45,6 +46,8 @@ class Trajectory {
   [[nodiscard]] double duration() const { return duration_; }
   // Distance travelled on the floor (lifts excluded).
   [[nodiscard]] double length() const { return length_; }
+  // Path times at which lifts start and end.
+  [[nodiscard]] std::vector<std::pair<double, double>> lift_intervals() const;
   // Body pose in the world.
   [[nodiscard]] static Pose3 body_pose(const TrueState& s);
 
