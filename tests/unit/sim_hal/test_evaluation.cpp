@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -173,7 +174,8 @@ TEST(Evaluation, EstimatesOutsideTheGroundTruthAreCounted) {
 }
 
 TEST(Evaluation, ReadsTumAndCovarianceFiles) {
-  const fs::path dir = fs::temp_directory_path() / "cleanslam_eval_tum";
+  const fs::path dir =
+      fs::temp_directory_path() / ("cleanslam_eval_tum_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string tum = (dir / "t.tum").string();
   std::ofstream(tum)

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -89,7 +90,8 @@ TEST(Renderer, RendersTexturedDeterministicImages) {
 }
 
 TEST(Renderer, ImagesModeWritesAReadableDataset) {
-  const fs::path dir = fs::temp_directory_path() / "cleanslam_render_dataset";
+  const fs::path dir =
+      fs::temp_directory_path() / ("cleanslam_render_dataset_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   auto sc = room({"camera.mode=both", "duration_s=5", "camera.image_format=pgm"});
   ASSERT_TRUE(sim::simulate(sc, dir.string()).ok());

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -26,8 +27,8 @@ class TempDir {
  public:
   TempDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            (std::string("cleanslam_sim_") + info->test_suite_name() + "_" + info->name());
+    path_ = fs::temp_directory_path() / (std::string("cleanslam_sim_") + info->test_suite_name() +
+                                         "_" + info->name() + "_" + std::to_string(::getpid()));
     fs::remove_all(path_);
   }
   ~TempDir() { fs::remove_all(path_); }

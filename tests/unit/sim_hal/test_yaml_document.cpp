@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -183,7 +184,8 @@ TEST(YamlDocument, EmptyDocumentIsNull) {
 }
 
 TEST(YamlDocument, ParseFileNamesThePath) {
-  const auto path = std::filesystem::temp_directory_path() / "cleanslam_test_yaml_doc.yaml";
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("cleanslam_test_yaml_doc_" + std::to_string(::getpid()) + ".yaml");
   {
     std::ofstream out(path);
     out << "x: 1.0\ny: oops\n";
