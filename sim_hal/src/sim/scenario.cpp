@@ -198,6 +198,7 @@ Result<Scenario> load_scenario(const std::string& name_or_path,
     p.max_turn_deg = m.optional_double("max_turn_deg", p.max_turn_deg);
     p.pause_probability = m.optional_double("pause_probability", p.pause_probability);
     p.max_pause_s = m.optional_double("max_pause_s", p.max_pause_s);
+    p.goal_bias = m.optional_double("goal_bias", p.goal_bias);
     p.kidnap_at_s = m.optional_double("kidnap_at_s", p.kidnap_at_s);
     p.kidnap_skip_s = m.optional_double("kidnap_skip_s", p.kidnap_skip_s);
     p.lift_duration_s = m.optional_double("lift_duration_s", p.lift_duration_s);

@@ -88,10 +88,21 @@ std::vector<Primitive> wander(const Scenario& sc, Random& rng, PlanarPose& start
   std::vector<Primitive> out;
   double t = 0.0;
   int guard = 0;
+  // Random goals across the arena keep the wandering from staying in one corner.
+  double goal_x = rng.uniform(lox, hix), goal_y = rng.uniform(loy, hiy);
   while (t < sc.duration_s && ++guard < 1'000'000) {
-    // Turn, then run as far as the wanted length or the border allows.
+    if (std::hypot(goal_x - pose.x, goal_y - pose.y) < 1.0) {
+      goal_x = rng.uniform(lox, hix);
+      goal_y = rng.uniform(loy, hiy);
+    }
+    // Turn (towards the goal, roughly, or at random), then run as far as the wanted length or the
+    // border allows.
     double turn = rng.uniform(p.min_turn_deg, p.max_turn_deg) * kPi / 180.0;
     if (rng.chance(0.5)) turn = -turn;
+    if (rng.chance(p.goal_bias)) {
+      const double to_goal = std::atan2(goal_y - pose.y, goal_x - pose.x);
+      turn = wrap_angle(to_goal + rng.gaussian(0.5) - pose.yaw);
+    }
     double heading = pose.yaw + turn;
     double want = rng.uniform(p.min_run, p.max_run);
     if (distance_to_border(pose.x, pose.y, heading, lox, loy, hix, hiy) < p.min_run) {

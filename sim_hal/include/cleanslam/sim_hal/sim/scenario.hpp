@@ -73,6 +73,7 @@ struct Scenario {
     double max_turn_deg = 180.0;
     double pause_probability = 0.0;
     double max_pause_s = 0.0;
+    double goal_bias = 0.5;  // probability that a turn heads (roughly) for a random goal
     // kidnapping: at path time kidnap_at_s, the robot is lifted and set down where the path is
     // kidnap_skip_s later, lift_duration_s later
     double kidnap_at_s = 0.0;
