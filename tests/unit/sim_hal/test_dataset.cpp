@@ -422,6 +422,33 @@ TEST(DatasetSource, LiftEventsFromLiftCsv) {
   EXPECT_TRUE(contains(load_error(dir.str()), "lift.csv:2: lifted: expected 0 or 1, got 2"));
 }
 
+TEST(DatasetSource, AppliesTheCameraTimeOffsetOnlyWhenAsked) {
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "sensors.yaml", "time_offset_s: 0.0", "time_offset_s: -0.1");
+  for (bool apply : {false, true}) {
+    DatasetSource::Options options;
+    options.apply_time_offset = apply;
+    auto src = DatasetSource::open(dir.str(), options);
+    ASSERT_TRUE(src.ok()) << src.error();
+    EXPECT_DOUBLE_EQ(src->calibration().camera.time_offset_s, -0.1);
+    hal::SensorEvent ev;
+    std::vector<hal::TimeNs> frames;
+    hal::TimeNs previous = -1;
+    while (true) {
+      const hal::TimeNs t = src->next_event_time();
+      if (!src->read(ev)) break;
+      EXPECT_GE(t, previous);
+      previous = t;
+      if (ev.kind == hal::SensorEvent::Kind::kFrame) frames.push_back(ev.frame.t_ns);
+    }
+    const hal::TimeNs shift = apply ? -100 * hal::kNsPerMillisecond : 0;
+    EXPECT_EQ(frames, (std::vector<hal::TimeNs>{250 * hal::kNsPerMillisecond + shift,
+                                                500 * hal::kNsPerMillisecond + shift,
+                                                750 * hal::kNsPerMillisecond + shift}));
+  }
+}
+
 TEST(DatasetSource, IsDeterministic) {
   TempDir dir;
   make_dataset(dir.str());
