@@ -53,9 +53,10 @@ class HarrisDetector {
   // Strongest response of the last frame (0 for a flat frame).
   [[nodiscard]] float max_response() const { return max_response_; }
 
- private:
+  // Working buffers (implementation detail, public for the row kernels).
   struct Planes;
 
+ private:
   HarrisConfig config_;
   std::array<float, 7> kernel_{};
   int kernel_radius_ = 2;
