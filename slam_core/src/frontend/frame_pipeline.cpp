@@ -161,6 +161,34 @@ void FramePipeline::do_track() {
 
 void FramePipeline::do_associate(LandmarkEstimator& est) {
   stage_ = FrameStage::kUpdate;
+  // Two landmarks on one pixel: only the better match stays.
+  const double dup2 = config_.duplicate_px * config_.duplicate_px;
+  int kept = 0;
+  for (int i = 0; i < obs_count_; ++i) {
+    TrackRecord& ti = at(tracks_, at(obs_track_, i));
+    bool drop = false;
+    for (int j = 0; j < obs_count_ && !drop; ++j) {
+      if (j == i) {
+        continue;
+      }
+      const TrackRecord& tj = at(tracks_, at(obs_track_, j));
+      const double du = ti.result.u_px - tj.result.u_px;
+      const double dv = ti.result.v_px - tj.result.v_px;
+      drop = du * du + dv * dv < dup2 &&
+             (tj.result.ncc > ti.result.ncc || (tj.result.ncc == ti.result.ncc && j < i));
+    }
+    if (drop) {
+      ti.result.found = false;
+      ti.result.failure = TrackFailure::kDuplicate;
+      ++report_.duplicates;
+      --report_.tracked;
+      continue;
+    }
+    at(obs_, kept) = at(obs_, i);
+    at(obs_track_, kept) = at(obs_track_, i);
+    ++kept;
+  }
+  obs_count_ = kept;
   if (obs_count_ == 0) {
     return;
   }

@@ -286,3 +286,47 @@ TEST(FrontendPipeline, StandingStillTracksButDoesNotUpdate) {
   EXPECT_FALSE(r.updated);
   EXPECT_EQ(est.updates, 0);
 }
+
+TEST(FrontendPipeline, TwoLandmarksOnOnePixelKeepOnlyTheBetterMatch) {
+  // Landmarks allowed next to each other (no exclusion) and a duplicate distance larger than the
+  // corners' minimum distance: neighbouring landmarks count as duplicates.
+  fe::FramePipelineConfig cfg;
+  cfg.book.exclusion_px = 0.0;
+  cfg.book.min_in_view = 16;
+  cfg.book.target_in_view = 16;
+  cfg.harris.min_distance_px = 3.0F;
+  cfg.duplicate_px = 12.0;
+  fe::FramePipeline pipe(cfg);
+  FakeEstimator est;
+  // Small bright squares: their four corners, 6 px apart, all become landmarks.
+  GrayImage img(320, 240, 60);
+  for (int cy = 60; cy < 200; cy += 60) {
+    for (int cx = 60; cx < 280; cx += 70) {
+      for (int y = cy; y < cy + 6; ++y) {
+        for (int x = cx; x < cx + 6; ++x) {
+          img.at(x, y) = 200;
+        }
+      }
+    }
+  }
+  pipe.begin_frame(img.view());
+  pipe.finish(est);
+  ASSERT_EQ(est.used_count(), 16);
+  pipe.begin_frame(img.view());
+  const fe::FrameReport& r = pipe.finish(est);
+  EXPECT_GT(r.duplicates, 0);
+  EXPECT_EQ(r.tracked + r.duplicates, r.in_view);
+  for (int i = 0; i < pipe.track_count(); ++i) {
+    const fe::TrackRecord& a = pipe.tracks()[i];
+    if (!a.result.found) {
+      EXPECT_EQ(a.result.failure, fe::TrackFailure::kDuplicate);
+      continue;
+    }
+    for (int j = 0; j < i; ++j) {
+      const fe::TrackRecord& b = pipe.tracks()[j];
+      if (b.result.found) {
+        EXPECT_GE(std::hypot(a.result.u_px - b.result.u_px, a.result.v_px - b.result.v_px), 12.0);
+      }
+    }
+  }
+}

@@ -25,6 +25,8 @@ struct FramePipelineConfig {
   SearchRegionConfig region;
   JcbbConfig jcbb;
   LandmarkBookConfig book;
+  // Two landmarks matched closer than this keep only the better match.
+  double duplicate_px = 3.0;
   // Bounded work per step().
   int predictions_per_step = 16;
   int tracks_per_step = 4;
@@ -65,6 +67,7 @@ struct FrameReport {
   int in_view = 0;   // predicted inside the searchable image
   int searched = 0;  // regions searched (in view, and those overlapping the border)
   int tracked = 0;
+  int duplicates = 0;
   int inliers = 0;
   int outliers = 0;
   bool innovation_rejected = false;  // the estimator refused the joint innovation
