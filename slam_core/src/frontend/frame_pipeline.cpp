@@ -17,6 +17,7 @@ FramePipeline::FramePipeline(const FramePipelineConfig& config)
       tracker_(config.tracker),
       jcbb_(config.jcbb),
       book_(config.book) {
+  config_.detect_rows_per_step = std::max(1, config_.detect_rows_per_step);
   config_.predictions_per_step = std::max(1, config_.predictions_per_step);
   config_.tracks_per_step = std::max(1, config_.tracks_per_step);
   config_.initializations_per_step = std::max(1, config_.initializations_per_step);
@@ -34,6 +35,8 @@ ImageCheck FramePipeline::begin_frame(const hal::GrayImageView& image, bool allo
   cursor_ = 0;
   report_.image_check = check_image(image, config_.width, config_.height);
   stage_ = report_.image_check == ImageCheck::kOk ? FrameStage::kDetect : FrameStage::kDone;
+  // Also abandons a detection left unfinished by a previous frame.
+  detector_.begin(image, config_.width, config_.height);
   return report_.image_check;
 }
 
@@ -83,7 +86,9 @@ const FrameReport& FramePipeline::finish(LandmarkEstimator& estimator) {
 }
 
 void FramePipeline::do_detect() {
-  detector_.detect(image_, config_.width, config_.height);
+  if (!detector_.step(config_.detect_rows_per_step)) {
+    return;
+  }
   report_.corners = detector_.corner_count();
   report_.featureless = report_.corners == 0;
   cursor_ = 0;

@@ -90,7 +90,7 @@ void response_row(const float* const* rxx, const float* const* rxy, const float*
 
 template <int R>
 void harris_response(const hal::GrayImageView& image, const float* kern, float harris_k,
-                     HarrisDetector::Planes& p);
+                     HarrisDetector::Planes& p, int row_begin, int row_end);
 
 }  // namespace
 
@@ -114,27 +114,56 @@ HarrisDetector::HarrisDetector(const HarrisConfig& config)
 HarrisDetector::~HarrisDetector() = default;
 
 ImageCheck HarrisDetector::detect(const hal::GrayImageView& image, int width, int height) {
+  const ImageCheck check = begin(image, width, height);
+  if (check == ImageCheck::kOk) {
+    while (!step(height)) {
+    }
+  }
+  return check;
+}
+
+ImageCheck HarrisDetector::begin(const hal::GrayImageView& image, int width, int height) {
   corner_count_ = 0;
   max_response_ = 0.0F;
   const ImageCheck check = check_image(image, width, height);
-  if (check != ImageCheck::kOk) {
-    return check;
+  image_ = check == ImageCheck::kOk ? image : hal::GrayImageView{};
+  next_row_ = check == ImageCheck::kOk ? 1 : height;
+  finished_ = check != ImageCheck::kOk;
+  return check;
+}
+
+bool HarrisDetector::step(int max_rows) {
+  if (finished_) {
+    return true;
   }
   Planes& p = *planes_;
-  const int w = width;
-  const int h = height;
-  const int r = kernel_radius_;
-  switch (r) {
+  const int h = image_.height;
+  const int end = std::min(h - 1, next_row_ + std::max(1, max_rows));
+  switch (kernel_radius_) {
     case 1:
-      harris_response<1>(image, kernel_.data(), config_.k, p);
+      harris_response<1>(image_, kernel_.data(), config_.k, p, next_row_, end);
       break;
     case 2:
-      harris_response<2>(image, kernel_.data(), config_.k, p);
+      harris_response<2>(image_, kernel_.data(), config_.k, p, next_row_, end);
       break;
     default:
-      harris_response<3>(image, kernel_.data(), config_.k, p);
+      harris_response<3>(image_, kernel_.data(), config_.k, p, next_row_, end);
       break;
   }
+  next_row_ = end;
+  if (next_row_ < h - 1) {
+    return false;
+  }
+  select_corners();
+  finished_ = true;
+  return true;
+}
+
+void HarrisDetector::select_corners() {
+  Planes& p = *planes_;
+  const int w = image_.width;
+  const int h = image_.height;
+  const int r = kernel_radius_;
 
   // 3x3 non-maximum suppression above the absolute floor; ties go to the first pixel in scan
   // order. The relative threshold needs the strongest response, known once all are seen.
@@ -199,14 +228,13 @@ ImageCheck HarrisDetector::detect(const hal::GrayImageView& image, int width, in
       corners_[static_cast<std::size_t>(corner_count_++)] = c;
     }
   }
-  return ImageCheck::kOk;
 }
 
 namespace {
 
 template <int R>
 void harris_response(const hal::GrayImageView& image, const float* kern, float harris_k,
-                     HarrisDetector::Planes& p) {
+                     HarrisDetector::Planes& p, int row_begin, int row_end) {
   constexpr int kRing = HarrisDetector::Planes::kRing;
   const int w = image.width;
   const int h = image.height;
@@ -215,7 +243,7 @@ void harris_response(const hal::GrayImageView& image, const float* kern, float h
   const float* ryy[2 * R + 1];
   // Image row yi (1 .. h-2) goes to ring slot yi % kRing; response row y = yi - R is ready once
   // rows y - R .. y + R are in.
-  for (int yi = 1; yi < h - 1; ++yi) {
+  for (int yi = std::max(row_begin, 1); yi < std::min(row_end, h - 1); ++yi) {
     const int slot = (yi % kRing) * hal::kImageWidth;
     blurred_products_row<R>(image, yi, kern, p.gxx.data(), p.gxy.data(), p.gyy.data(),
                             p.hxx.data() + slot, p.hxy.data() + slot, p.hyy.data() + slot);

@@ -108,6 +108,7 @@ TEST(FrontendPipeline, KeepsTracksWhileDrivingForward) {
 
 TEST(FrontendPipeline, StepsDoBoundedWork) {
   fe::FramePipelineConfig cfg;
+  cfg.detect_rows_per_step = 30;
   cfg.tracks_per_step = 2;
   cfg.initializations_per_step = 3;
   fe::FramePipeline pipe(cfg);
@@ -128,10 +129,12 @@ TEST(FrontendPipeline, StepsDoBoundedWork) {
   const GrayImage img = render(w);
   pipe.begin_frame(img.view());
   int track_steps = 0;
+  int detect_steps = 0;
   int last_tracked = 0;
   while (true) {
     const fe::FrameStage before = pipe.stage();
     const bool more = pipe.step(est);
+    detect_steps += before == fe::FrameStage::kDetect ? 1 : 0;
     if (before == fe::FrameStage::kTrack) {
       ++track_steps;
       EXPECT_LE(pipe.report().tracked - last_tracked, 2);
@@ -143,6 +146,7 @@ TEST(FrontendPipeline, StepsDoBoundedWork) {
   }
   EXPECT_EQ(pipe.report().tracked, 10);
   EXPECT_EQ(track_steps, 5);
+  EXPECT_EQ(detect_steps, 8);  // rows 1..238 in pieces of 30
   EXPECT_EQ(pipe.stage(), fe::FrameStage::kDone);
   EXPECT_FALSE(pipe.step(est));
 }

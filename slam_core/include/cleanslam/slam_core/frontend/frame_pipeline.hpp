@@ -28,6 +28,7 @@ struct FramePipelineConfig {
   // Two landmarks matched closer than this keep only the better match.
   double duplicate_px = 3.0;
   // Bounded work per step().
+  int detect_rows_per_step = 60;
   int predictions_per_step = 16;
   int tracks_per_step = 4;
   int initializations_per_step = 4;
