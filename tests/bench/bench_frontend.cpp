@@ -11,9 +11,11 @@
 #include <valgrind/callgrind.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -22,7 +24,9 @@
 #include <string>
 #include <vector>
 
+#include "../unit/slam_core/frontend_fake_estimator.hpp"
 #include "../unit/slam_core/frontend_synthetic.hpp"
+#include "cleanslam/slam_core/frontend/frame_pipeline.hpp"
 #include "cleanslam/slam_core/frontend/harris.hpp"
 #include "cleanslam/slam_core/frontend/patch.hpp"
 #include "cleanslam/slam_core/frontend/search_region.hpp"
@@ -342,6 +346,72 @@ void print_quality() {
   std::fflush(stdout);
 }
 
+double thread_cpu_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
+}
+
+// The resumable pipeline (default step sizes) on a forward-then-turn sequence with a fake
+// estimator: the longest step of each stage, i.e. what the cooperative loop must budget for.
+void print_pipeline_steps() {
+  constexpr int kFrames = 16;
+  std::vector<GrayImage> frames;
+  std::vector<Warp> warps;
+  Warp w;
+  for (int k = 0; k < kFrames; ++k) {
+    if (k < 8) {
+      w.scale *= 1.05;
+    } else {
+      w.shift_x -= 25.0;
+    }
+    warps.push_back(w);
+    frames.push_back(render(w));
+  }
+  fe::FramePipeline pipe;
+  cleanslam::test::FakeEstimator est;
+  constexpr int kStages = static_cast<int>(fe::FrameStage::kDone) + 1;
+  std::array<double, kStages> worst{};
+  std::array<long, kStages> count{};
+  double worst_frame = 0.0;
+  double total = 0.0;
+  int tracked = 0;
+  for (int rep = 0; rep < 5; ++rep) {
+    for (int k = 0; k < kFrames; ++k) {
+      est.belief = warps[static_cast<std::size_t>(k)];
+      est.truth = warps[static_cast<std::size_t>(k)];
+      pipe.begin_frame(frames[static_cast<std::size_t>(k)].view());
+      double frame_us = 0.0;
+      bool more = true;
+      while (more) {
+        const auto stage = static_cast<std::size_t>(pipe.stage());
+        const double t0 = thread_cpu_us();
+        more = pipe.step(est);
+        const double us = thread_cpu_us() - t0;
+        worst[stage] = std::max(worst[stage], us);
+        ++count[stage];
+        frame_us += us;
+      }
+      tracked += pipe.report().tracked;
+      worst_frame = std::max(worst_frame, frame_us);
+      total += frame_us;
+    }
+  }
+  const char* names[kStages] = {"idle",   "detect", "predict",    "track", "associate",
+                                "update", "manage", "initialize", "done"};
+  std::printf(
+      "# Frame pipeline, default step sizes, %d frames x 5 (fake estimator): longest step\n",
+      kFrames);
+  std::printf("# per stage (us, thread CPU time) and steps per frame\n");
+  for (int i = 1; i < kStages - 1; ++i) {
+    std::printf("%-11s %8.1f us  %5.1f steps/frame\n", names[i], worst[static_cast<std::size_t>(i)],
+                static_cast<double>(count[static_cast<std::size_t>(i)]) / (5.0 * kFrames));
+  }
+  std::printf("frame total: mean %.1f us, worst %.1f us; %.1f landmarks tracked per frame\n\n",
+              total / (5.0 * kFrames), worst_frame, tracked / (5.0 * kFrames));
+  std::fflush(stdout);
+}
+
 int run_callgrind(const std::string& job) {
   const Sequence seq = make_sequence(cases()[0], 1);
   Ours o(seq);
@@ -427,6 +497,7 @@ int main(int argc, char** argv) {
     rest.push_back(argv[i]);
   }
   print_quality();
+  print_pipeline_steps();
   if (quality_only) {
     return 0;
   }

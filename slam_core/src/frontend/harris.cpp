@@ -127,6 +127,8 @@ ImageCheck HarrisDetector::begin(const hal::GrayImageView& image, int width, int
   max_response_ = 0.0F;
   const ImageCheck check = check_image(image, width, height);
   image_ = check == ImageCheck::kOk ? image : hal::GrayImageView{};
+  nms_row_ = 0;
+  candidate_count_ = 0;
   next_row_ = check == ImageCheck::kOk ? 1 : height;
   finished_ = check != ImageCheck::kOk;
   return check;
@@ -151,6 +153,8 @@ bool HarrisDetector::step(int max_rows) {
       break;
   }
   next_row_ = end;
+  // Response rows up to end - 1 - R are complete; suppression of a row needs the next one.
+  suppress_rows(end - 1 - kernel_radius_);
   if (next_row_ < h - 1) {
     return false;
   }
@@ -159,20 +163,22 @@ bool HarrisDetector::step(int max_rows) {
   return true;
 }
 
-void HarrisDetector::select_corners() {
+// 3x3 non-maximum suppression above the absolute floor of rows nms_row_ .. last_response_row - 1;
+// ties go to the first pixel in scan order. The relative threshold needs the strongest response
+// of the frame: select_corners() applies it.
+void HarrisDetector::suppress_rows(int last_response_row) {
   Planes& p = *planes_;
   const int w = image_.width;
   const int h = image_.height;
-  const int r = kernel_radius_;
-
-  // 3x3 non-maximum suppression above the absolute floor; ties go to the first pixel in scan
-  // order. The relative threshold needs the strongest response, known once all are seen.
-  const int border = std::max(config_.border_px, r + 2);
+  const int border = std::max(config_.border_px, kernel_radius_ + 2);
   const float floor_response = config_.min_response;
-  float max_r = 0.0F;
-  int n = 0;
   const int capacity = static_cast<int>(p.candidates.size());
-  for (int y = border; y < h - border && n < capacity; ++y) {
+  nms_row_ = std::max(nms_row_, border);
+  const int y_end = std::min(h - border, last_response_row);
+  float max_r = max_response_;
+  int n = candidate_count_;
+  for (; nms_row_ < y_end && n < capacity; ++nms_row_) {
+    const int y = nms_row_;
     const float* up = p.response.data() + (y - 1) * w;
     const float* mid = p.response.data() + y * w;
     const float* dn = p.response.data() + (y + 1) * w;
@@ -193,6 +199,14 @@ void HarrisDetector::select_corners() {
     }
   }
   max_response_ = max_r;
+  candidate_count_ = n;
+}
+
+void HarrisDetector::select_corners() {
+  Planes& p = *planes_;
+  const float floor_response = config_.min_response;
+  const float max_r = max_response_;
+  int n = candidate_count_;
   const float threshold = std::max(floor_response, config_.quality_level * max_r);
   int kept = 0;
   for (int i = 0; i < n; ++i) {

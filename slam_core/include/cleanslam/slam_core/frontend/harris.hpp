@@ -64,6 +64,7 @@ class HarrisDetector {
   struct Planes;
 
  private:
+  void suppress_rows(int last_response_row);
   void select_corners();
 
   HarrisConfig config_;
@@ -75,6 +76,8 @@ class HarrisDetector {
   float max_response_ = 0.0F;
   hal::GrayImageView image_;
   int next_row_ = 0;
+  int nms_row_ = 0;
+  int candidate_count_ = 0;
   bool finished_ = true;
 };
 
