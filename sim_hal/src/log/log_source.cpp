@@ -33,15 +33,17 @@ hal::TimeNs LogSource::next_event_time() const {
   if (pacing_ == Pacing::kEventTime) {
     return next_ < recs.size() ? event_time(recs[next_]) : -1;
   }
-  for (std::size_t i = next_; in_tick_ && i < recs.size(); ++i) {
-    if (recs[i].type == lf::RecordType::kClock) {
-      break;
-    }
+  return -1;  // released events are ready now, like a live device's
+}
+
+bool LogSource::tick_has_input() const {
+  const auto& recs = reader_.records();
+  for (std::size_t i = next_; in_tick_ && i < next_tick_ && i < recs.size(); ++i) {
     if (lf::is_input(recs[i].type)) {
-      return event_time(recs[i]);
+      return true;
     }
   }
-  return -1;
+  return false;
 }
 
 hal::TimeNs LogSource::next_tick_time() const {
@@ -128,7 +130,7 @@ bool LogSource::exhausted() const {
     }
     return i >= recs.size();
   }
-  return next_tick_ >= recs.size() && next_event_time() < 0;
+  return next_tick_ >= recs.size() && !tick_has_input();
 }
 
 }  // namespace cleanslam::sim_hal

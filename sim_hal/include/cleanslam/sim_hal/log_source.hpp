@@ -78,6 +78,7 @@ class LogReader {
 //  - kEventTime: events are due at their own time stamps (a log used like a dataset).
 //  - kRecordedTicks: events are released one loop iteration at a time, as the recording loop
 //    ingested them; the iteration times come from the log's clock records (bit-exact replay).
+//    Released events are ready at once (next_event_time() is -1, as for a live device).
 class LogSource final : public hal::SensorSource {
  public:
   enum class Pacing : std::uint8_t { kEventTime, kRecordedTicks };
@@ -97,6 +98,7 @@ class LogSource final : public hal::SensorSource {
 
  private:
   void skip_to_input();
+  [[nodiscard]] bool tick_has_input() const;
   [[nodiscard]] hal::TimeNs event_time(const LogRecordRef& r) const;
 
   const LogReader& reader_;
