@@ -33,7 +33,7 @@ bool Recorder::open(const RecorderOptions& options, std::string_view config_text
   for (int i = 1; i < options_.max_files; ++i) {
     names_.push_back(options_.path + "." + std::to_string(i));
   }
-  ring_.assign(std::max(options_.buffer_bytes, lf::kMaxPayload + 2 * lf::kRecordHeaderSize), 0);
+  ring_.assign(std::max<std::size_t>(options_.buffer_bytes, 128U << 10), 0);
   scratch_.assign(lf::kMaxPayload + lf::kRecordHeaderSize, 0);
   head_ = 0;
   size_ = 0;
@@ -83,7 +83,7 @@ void Recorder::append(lf::RecordType type, std::size_t payload_size, const Encod
     return;
   }
   const std::size_t total = lf::kRecordHeaderSize + payload_size;
-  if (payload_size > lf::kMaxPayload) {
+  if (payload_size > lf::kMaxPayload || total > ring_.size()) {
     ++stats_.dropped_buffer_full;
     return;
   }
