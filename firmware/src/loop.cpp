@@ -22,6 +22,8 @@ Loop::Loop(const LoopOptions& options, Estimator& estimator)
   sources_.reserve(8);
   pose_sinks_.reserve(8);
   update_sinks_.reserve(8);
+  frame_sinks_.reserve(4);
+  frame_dr_sinks_.reserve(4);
 }
 
 void Loop::add_source(hal::SensorSource* source) {
@@ -32,6 +34,14 @@ void Loop::add_pose_sink(hal::PoseSink* sink) {
 }
 void Loop::add_update_sink(UpdateSink* sink) {
   update_sinks_.push_back(sink);
+}
+void Loop::add_frame_sinks(hal::PoseSink* estimate, hal::PoseSink* dead_reckoning) {
+  if (estimate != nullptr) {
+    frame_sinks_.push_back(estimate);
+  }
+  if (dead_reckoning != nullptr) {
+    frame_dr_sinks_.push_back(dead_reckoning);
+  }
 }
 
 void Loop::count(Reject r, std::uint64_t n) {
@@ -279,6 +289,20 @@ void Loop::run_frame_steps() {
   }
   stats_.update_records += static_cast<std::uint64_t>(n);
   ++stats_.frames_done;
+  const hal::TimeNs t = active_->frame.t_ns;
+  if (!frame_sinks_.empty()) {
+    hal::PoseEstimate p = estimator_.pose(t);
+    p.health |= health_;
+    for (hal::PoseSink* sink : frame_sinks_) {
+      sink->publish(p);
+    }
+  }
+  if (!frame_dr_sinks_.empty()) {
+    const hal::PoseEstimate p = estimator_.dead_reckoning_pose(t);
+    for (hal::PoseSink* sink : frame_dr_sinks_) {
+      sink->publish(p);
+    }
+  }
   active_ = nullptr;
 }
 
@@ -331,6 +355,12 @@ void Loop::finish() {
     sink->flush();
   }
   for (UpdateSink* sink : update_sinks_) {
+    sink->flush();
+  }
+  for (hal::PoseSink* sink : frame_sinks_) {
+    sink->flush();
+  }
+  for (hal::PoseSink* sink : frame_dr_sinks_) {
     sink->flush();
   }
   if (recorder_ != nullptr) {

@@ -159,6 +159,19 @@ class FakeEstimator final : public firmware::Estimator {
     return p;
   }
   [[nodiscard]] bool standing_still() const override { return still; }
+  [[nodiscard]] hal::PoseEstimate dead_reckoning_pose(hal::TimeNs t) const override {
+    hal::PoseEstimate p;
+    p.t_ns = t;
+    p.position_m = {distance, 0.0, 0.0};
+    return p;
+  }
+  int landmarks(firmware::LandmarkEstimate* out, int max) const override {
+    if (max > 0) {
+      out[0].slot = 0;
+      out[0].position_m = {distance, 1.0, 0.0};
+    }
+    return max > 0 ? 1 : 0;
+  }
 };
 
 class CollectingSink final : public hal::PoseSink {

@@ -1,11 +1,19 @@
 #pragma once
 
+#include <array>
+
 #include "cleanslam/hal/frame.hpp"
 #include "cleanslam/hal/log_format.hpp"
 #include "cleanslam/hal/pose.hpp"
 #include "cleanslam/hal/samples.hpp"
 
 namespace cleanslam::firmware {
+
+struct LandmarkEstimate {
+  int slot = -1;
+  std::array<double, 3> position_m{};
+  std::array<double, 9> covariance{};  // row-major
+};
 
 // What the loop drives: dead reckoning, the EKF and the frame pipeline. The loop validates the
 // inputs first (finite, in order); an estimator sees only accepted samples.
@@ -26,6 +34,10 @@ class Estimator {
   virtual int update_records(const hal::log::UpdateRecord*& records) const = 0;
   [[nodiscard]] virtual hal::PoseEstimate pose(hal::TimeNs t_ns) const = 0;
   [[nodiscard]] virtual bool standing_still() const = 0;
+  // Odometry alone (encoders and gyro), for comparison.
+  [[nodiscard]] virtual hal::PoseEstimate dead_reckoning_pose(hal::TimeNs t_ns) const = 0;
+  // The map: fills at most `max` landmarks, returns how many.
+  virtual int landmarks(LandmarkEstimate* out, int max) const = 0;
 };
 
 }  // namespace cleanslam::firmware

@@ -66,6 +66,8 @@ class Loop {
   void add_source(hal::SensorSource* source);
   void add_pose_sink(hal::PoseSink* sink);
   void add_update_sink(UpdateSink* sink);
+  // Told the estimate and the dead-reckoning pose at each finished frame's time.
+  void add_frame_sinks(hal::PoseSink* estimate, hal::PoseSink* dead_reckoning);
   void set_recorder(Recorder* recorder) { recorder_ = recorder; }
   void set_notifier(Notifier* notifier) { notifier_ = notifier; }
   void set_health_observer(HealthObserver* observer) { observer_ = observer; }
@@ -108,6 +110,8 @@ class Loop {
   std::vector<hal::SensorSource*> sources_;
   std::vector<hal::PoseSink*> pose_sinks_;
   std::vector<UpdateSink*> update_sinks_;
+  std::vector<hal::PoseSink*> frame_sinks_;
+  std::vector<hal::PoseSink*> frame_dr_sinks_;
   Recorder* recorder_ = nullptr;
   Notifier* notifier_ = nullptr;
   HealthObserver* observer_ = nullptr;
