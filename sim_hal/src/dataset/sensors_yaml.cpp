@@ -34,11 +34,19 @@ std::string check_transform(const std::array<double, 16>& t) {
 }  // namespace
 
 std::string format_double(double v) {
-  char buf[64];
-  auto [ptr, ec] = std::to_chars(buf, buf + sizeof(buf), v);
+  // Plain decimal (shortest round trip) where it is not absurdly long, so that other YAML and
+  // CSV readers (which may not take "1e-04" as a number) agree; otherwise d.ddde+XX.
+  char buf[400];
+  const double a = std::abs(v);
+  const bool fixed = a == 0.0 || (a >= 1e-12 && a < 1e15);
+  auto [ptr, ec] = fixed ? std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::fixed)
+                         : std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::scientific);
   if (ec != std::errc()) return "nan";
   std::string s(buf, ptr);
-  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+  if (fixed && s.find('.') == std::string::npos && s.find_first_of("ni") == std::string::npos) {
+    s += ".0";
+  }
+  if (!fixed && s.find('.') == std::string::npos) s.insert(s.find('e'), ".0");
   return s;
 }
 
