@@ -120,18 +120,16 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.eps_cal_px = f.number("eps_cal_px", x.eps_cal_px, 0.0, 100.0);
     x.gate_chi2 = f.number("gate_chi2", x.gate_chi2, 0.0, 1e6, true);
     x.max_landmarks = f.integer("max_landmarks", x.max_landmarks, 1, hal::kMaxLandmarks);
-    x.gyro_silent_noise_scale =
-        f.number("gyro_silent_noise_scale", x.gyro_silent_noise_scale, 1.0, 1e6);
+    x.encoder_yaw_noise_rad_per_sqrt_m = f.number(
+        "encoder_yaw_noise_rad_per_sqrt_m", x.encoder_yaw_noise_rad_per_sqrt_m, 0.0, 10.0, true);
     f.done();
   }
   {
     Section f = top.sub("frontend");
     auto& x = cfg.frontend;
     x.min_inliers = f.integer("min_inliers", x.min_inliers, 1, hal::kMaxObservationsPerFrame);
-    x.standing_still_speed_m_s =
-        f.number("standing_still_speed_m_s", x.standing_still_speed_m_s, 0.0, 1.0);
-    x.standing_still_rate_rad_s =
-        f.number("standing_still_rate_rad_s", x.standing_still_rate_rad_s, 0.0, 1.0);
+    x.standstill_rate_rad_s = f.number("standstill_rate_rad_s", x.standstill_rate_rad_s, 0.0, 1.0);
+    x.standstill_window_s = f.number("standstill_window_s", x.standstill_window_s, 0.05, 10.0);
     f.done();
   }
   {
@@ -330,11 +328,11 @@ std::string config_text(const FirmwareConfig& c) {
     << "  eps_cal_px: " << fmt(f.eps_cal_px) << "\n"
     << "  gate_chi2: " << fmt(f.gate_chi2) << "\n"
     << "  max_landmarks: " << f.max_landmarks << "\n"
-    << "  gyro_silent_noise_scale: " << fmt(f.gyro_silent_noise_scale) << "\n";
+    << "  encoder_yaw_noise_rad_per_sqrt_m: " << fmt(f.encoder_yaw_noise_rad_per_sqrt_m) << "\n";
   s << "frontend:\n"
     << "  min_inliers: " << c.frontend.min_inliers << "\n"
-    << "  standing_still_speed_m_s: " << fmt(c.frontend.standing_still_speed_m_s) << "\n"
-    << "  standing_still_rate_rad_s: " << fmt(c.frontend.standing_still_rate_rad_s) << "\n";
+    << "  standstill_rate_rad_s: " << fmt(c.frontend.standstill_rate_rad_s) << "\n"
+    << "  standstill_window_s: " << fmt(c.frontend.standstill_window_s) << "\n";
   const auto& l = c.loop;
   s << "loop:\n"
     << "  frame_rate_hz: " << fmt(l.frame_rate_hz) << "\n"

@@ -27,7 +27,8 @@ constexpr const char* kUsage =
     "Runs the firmware loop on a dataset folder as fast as possible (deterministic) and writes\n"
     "DIR/trajectory.tum (body pose at every processed frame, relative to the first, TUM\n"
     "t x y z qx qy qz qw), DIR/trajectory.tum.cov (t and the 6x6 covariance over x y z roll\n"
-    "pitch yaw, row-major, position block in the frame of the first pose), DIR/dead_reckoning.tum,\n"
+    "pitch yaw, row-major, position block in the frame of the first pose), "
+    "DIR/dead_reckoning.tum,\n"
     "DIR/landmarks.csv (slot,x,y,z,sxx,sxy,sxz,syy,syz,szz) and DIR/diagnostics.csv.\n";
 
 // A progress bar on stderr, driven by the published poses' time.
@@ -35,14 +36,14 @@ class Progress final : public hal::PoseSink {
  public:
   Progress(hal::TimeNs t0, hal::TimeNs t1) : t0_(t0), t1_(t1) {}
   void publish(const hal::PoseEstimate& p) override {
-    const double f = t1_ > t0_ ? static_cast<double>(p.t_ns - t0_) / static_cast<double>(t1_ - t0_)
-                               : 1.0;
+    const double f =
+        t1_ > t0_ ? static_cast<double>(p.t_ns - t0_) / static_cast<double>(t1_ - t0_) : 1.0;
     const int percent = static_cast<int>(std::clamp(f, 0.0, 1.0) * 100.0);
     if (percent != last_) {
       last_ = percent;
       const int bars = percent / 2;
-      std::fprintf(stderr, "\r[%.*s%*s] %3d%%", bars, "##################################################",
-                   50 - bars, "", percent);
+      std::fprintf(stderr, "\r[%.*s%*s] %3d%%", bars,
+                   "##################################################", 50 - bars, "", percent);
     }
   }
   void flush() override {

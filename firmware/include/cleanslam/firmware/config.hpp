@@ -12,19 +12,22 @@ namespace cleanslam::firmware {
 
 // The EKF's parameters (slam_core::EkfConfig) and the initial pose uncertainty.
 struct FilterSettings {
-  double eps_ct_m = 30.0;                 // eq. 14-15, along the ray (paper: 30 m .. 1000 m)
-  double assumed_depth_m = 5.0;           // eq. 13
-  double eps_trk_px = 0.5;                // eq. 16
-  double eps_cal_px = 0.5;                // eq. 16
-  double gate_chi2 = 11.34;               // per observation, 3 dof, 99 %
-  int max_landmarks = 128;                // slots in use at most (<= hal::kMaxLandmarks)
-  double gyro_silent_noise_scale = 10.0;  // heading noise inflation while the gyro is silent
+  double eps_ct_m = 30.0;        // eq. 14-15, along the ray (paper: 30 m .. 1000 m)
+  double assumed_depth_m = 5.0;  // eq. 13
+  double eps_trk_px = 0.5;       // eq. 16
+  double eps_cal_px = 0.5;       // eq. 16
+  double gate_chi2 = 11.34;      // per observation, 3 dof, 99 %
+  int max_landmarks = 128;       // slots in use at most (<= hal::kMaxLandmarks)
+  // Heading from the encoders alone while the gyro is silent: random walk per sqrt(metre).
+  double encoder_yaw_noise_rad_per_sqrt_m = 0.03;
 };
 
 struct FrontendSettings {
-  int min_inliers = 3;                      // no visual update with fewer (Section 3.3)
-  double standing_still_speed_m_s = 0.005;  // no visual update below (Section 2.4)
-  double standing_still_rate_rad_s = 0.005;
+  int min_inliers = 3;  // no visual update with fewer (Section 3.3)
+  // Standing still (no visual update, Section 2.4): no tick and |yaw rate - bias| below this
+  // for standstill_window_s.
+  double standstill_rate_rad_s = 0.02;
+  double standstill_window_s = 0.5;
 };
 
 struct SourceSettings {

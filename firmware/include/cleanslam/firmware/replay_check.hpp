@@ -17,7 +17,10 @@ struct OutputComparison {
   std::string description;           // what differs, for the report
 };
 
+// With `original_truncated`, a replay may go on past the last output that survived the cut (the
+// outputs of the last recorded iteration may be missing from the original).
 OutputComparison compare_outputs(const sim_hal::LogReader& original,
-                                 const sim_hal::LogReader& replayed);
+                                 const sim_hal::LogReader& replayed,
+                                 bool original_truncated = false);
 
 }  // namespace cleanslam::firmware
