@@ -87,7 +87,7 @@ void record_run(Recorder& rec, Recorded& r, int ticks) {
   }
   r.features = {{3, 10.25, 20.5}, {9, -1.0, 1e-9}};
   for (int k = 0; k < ticks; ++k) {
-    const hal::TimeNs t = 1'000'000'000 + k * 10'000'000;
+    const hal::TimeNs t = 1'000'000'000 + hal::TimeNs{k} * 10'000'000;
     rec.clock(t);
     hal::GyroSample g{t, 0.01 * k, 0.0, 0.0, false, static_cast<std::uint32_t>(k)};
     rec.gyro(g);
@@ -195,7 +195,7 @@ TEST(Recorder, RecordedTicksReleaseEventsOneIterationAtATime) {
   hal::SensorEvent ev;
   EXPECT_FALSE(src.read(ev));  // nothing before the first iteration
   for (int k = 0; k < 6; ++k) {
-    ASSERT_EQ(src.next_tick_time(), 1'000'000'000 + k * 10'000'000);
+    ASSERT_EQ(src.next_tick_time(), 1'000'000'000 + hal::TimeNs{k} * 10'000'000);
     ASSERT_TRUE(src.advance_tick());
     int events = 0;
     while (src.read(ev)) {
