@@ -97,7 +97,8 @@ Status read_csv(const std::string& path, const CsvSpec& spec,
   std::string line;
   if (!std::getline(in, line)) return Status::failure(path + ":1: empty file, expected a header");
   const std::string_view header = trim(line);
-  const std::string expected = "#" + join(spec.columns);
+  std::string expected(1, '#');
+  expected += join(spec.columns);
   std::vector<std::string_view> fields;
   if (header.empty() || header.front() != '#') {
     return Status::failure(path + ":1: expected the header \"" + expected + "\", got " +
@@ -111,8 +112,11 @@ Status read_csv(const std::string& path, const CsvSpec& spec,
                        spec.optional_columns.end());
   if (columns != spec.columns && (spec.optional_columns.empty() || columns != with_optional)) {
     std::string msg = path + ":1: expected the header \"" + expected + "\"";
-    if (!spec.optional_columns.empty())
-      msg += " (optionally followed by ," + join(spec.optional_columns) + ")";
+    if (!spec.optional_columns.empty()) {
+      msg += " (optionally followed by ,";
+      msg += join(spec.optional_columns);
+      msg += ")";
+    }
     return Status::failure(msg + ", got " + quote(header));
   }
   if (columns_out != nullptr) *columns_out = columns;

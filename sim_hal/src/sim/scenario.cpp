@@ -236,9 +236,19 @@ Result<Scenario> load_scenario(const std::string& name_or_path,
     c.max_range = m.optional_double("max_range", c.max_range);
     c.min_facing_cos = m.optional_double("min_facing_cos", c.min_facing_cos);
     c.max_features = read_int(m, "max_features", c.max_features);
+    c.image_noise = m.optional_double("image_noise", c.image_noise);
+    c.blur = m.optional_double("blur", c.blur);
+    c.exposure_walk = m.optional_double("exposure_walk", c.exposure_walk);
+    c.exposure_jump_probability =
+        m.optional_double("exposure_jump_probability", c.exposure_jump_probability);
+    c.image_format = m.optional_string("image_format", c.image_format);
     m.report_unknown_keys();
-    if (c.mode != "features") {
-      diag.errors.push_back("camera.mode: only \"features\" is implemented, got \"" + c.mode +
+    if (c.mode != "features" && c.mode != "images" && c.mode != "both") {
+      diag.errors.push_back("camera.mode: expected features, images or both, got \"" + c.mode +
+                            "\"");
+    }
+    if (c.image_format != "png" && c.image_format != "pgm") {
+      diag.errors.push_back("camera.image_format: expected png or pgm, got \"" + c.image_format +
                             "\"");
     }
   }

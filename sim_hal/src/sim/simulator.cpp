@@ -5,10 +5,12 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <numbers>
 
 #include "cleanslam/sim_hal/dataset_writer.hpp"
 #include "cleanslam/sim_hal/sim/random.hpp"
+#include "cleanslam/sim_hal/sim/renderer.hpp"
 #include "cleanslam/sim_hal/sim/trajectory.hpp"
 
 namespace cleanslam::sim_hal::sim {
@@ -17,7 +19,7 @@ namespace {
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
 // Independent generator streams of one seed.
-enum Stream : std::uint64_t { kWorld = 1, kPath, kGyro, kEncoders, kCamera };
+enum Stream : std::uint64_t { kWorld = 1, kPath, kGyro, kEncoders, kCamera, kImage };
 
 hal::TimeNs to_ns(double s) {
   return static_cast<hal::TimeNs>(std::llround(s * 1e9));
@@ -114,7 +116,9 @@ Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_di
   if (duration <= 0.0) return R::failure(sc.name + ": the path is empty");
 
   DatasetWriter writer;
-  Status s = writer.open(out_dir, calibration_of(sc));
+  Status s = writer.open(out_dir, calibration_of(sc),
+                         sc.camera.image_format == "pgm" ? DatasetWriter::ImageFormat::kPgm
+                                                         : DatasetWriter::ImageFormat::kPng);
   if (!s) return R::failure(s.error());
   SimulationSummary sum;
   sum.duration_s = duration;
@@ -208,7 +212,14 @@ Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_di
   // the stamp carries jitter.
   {
     Random rng(sc.seed, kCamera);
+    Random image_rng(sc.seed, kImage);
     const auto& c = sc.camera;
+    const bool write_features = c.mode == "features" || c.mode == "both";
+    const bool write_images = c.mode == "images" || c.mode == "both";
+    std::unique_ptr<Renderer> renderer;
+    if (write_images) renderer = std::make_unique<Renderer>(sc);
+    GrayImage image;
+    double exposure = 1.0;
     const double dt = 1.0 / c.rate_hz;
     const double phase = 0.013;
     const Pose3 bc = body_to_camera(c);
@@ -254,7 +265,17 @@ Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_di
       hal::TimeNs stamp = to_ns(t0 + t + (c.jitter_s > 0.0 ? rng.gaussian(c.jitter_s) : 0.0));
       stamp = std::max(stamp, last_stamp + 1);
       last_stamp = stamp;
-      writer.add_features(stamp, obs.data(), static_cast<int>(obs.size()));
+      if (write_features) writer.add_features(stamp, obs.data(), static_cast<int>(obs.size()));
+      if (write_images) {
+        exposure *= std::exp(image_rng.gaussian(c.exposure_walk));
+        if (image_rng.chance(c.exposure_jump_probability)) {
+          exposure *= image_rng.uniform(0.7, 1.3);
+        }
+        exposure = std::clamp(exposure, 0.5, 1.6);
+        renderer->render(wc, exposure, image_rng, image);
+        s = writer.add_image(stamp, image.view());
+        if (!s) return R::failure(s.error());
+      }
       ++sum.frames;
       if (obs.empty()) ++sum.frames_without_features;
       total += static_cast<double>(obs.size());

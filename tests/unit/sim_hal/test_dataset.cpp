@@ -75,8 +75,11 @@ void make_dataset(const std::string& folder, int width = 32, int height = 24,
     w.add_gyro(hal::GyroSample{i * 10 * hal::kNsPerMillisecond, 0.01 * i, 0, 0, false, 0});
   }
   for (int i = 0; i < 20; ++i) {
-    w.add_encoder(hal::EncoderSample{i * 50 * hal::kNsPerMillisecond + 1, 2147483600 + 10 * i,
-                                     -2147483600 - 10 * i, 0});
+    // Counters near the 32-bit limits, wrapping (computed without signed overflow).
+    const auto step = static_cast<std::uint32_t>(10 * i);
+    w.add_encoder(hal::EncoderSample{i * 50 * hal::kNsPerMillisecond + 1,
+                                     static_cast<std::int32_t>(2147483600U + step),
+                                     static_cast<std::int32_t>(2147483696U - step), 0});
   }
   ASSERT_TRUE(w.add_image(250 * hal::kNsPerMillisecond, pattern(width, height, 1).view()).ok());
   ASSERT_TRUE(w.add_image(750 * hal::kNsPerMillisecond, pattern(width, height, 2).view()).ok());

@@ -87,7 +87,9 @@ struct Scenario {
   } robot;
 
   struct Camera {
-    std::string mode = "features";  // features (images: not implemented)
+    // features: features.csv from the point landmarks; images: rendered cam0/ images;
+    // both: both (the point landmarks are not drawn in the images).
+    std::string mode = "features";
     int width = 320;
     int height = 240;
     double fx = 280.0;
@@ -106,6 +108,12 @@ struct Scenario {
     double max_range = 6.0;
     double min_facing_cos = 0.2;  // wall points seen at grazing angles are dropped
     int max_features = 64;
+    // images mode
+    double image_noise = 2.0;                 // gray levels, std. dev. per pixel
+    double blur = 0.5;                        // weight of the neighbours in a 3x3 blur (0: none)
+    double exposure_walk = 0.03;              // relative gain change per frame (random walk)
+    double exposure_jump_probability = 0.02;  // per frame: a sudden gain change of up to 30 %
+    std::string image_format = "png";         // png | pgm
   } camera;
 
   struct Gyro {
