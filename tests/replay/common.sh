@@ -17,6 +17,6 @@ fail() {
 }
 # A short simulated run: features-level dataset with faults of the scenario.
 simulate() {
-  run "$SIM" default-room "$WORK/ds" --set duration_s=40 >"$WORK/sim.log" 2>&1 ||
+  run "$SIM" default-room "$WORK/ds" --set duration_s=20 >"$WORK/sim.log" 2>&1 ||
     { cat "$WORK/sim.log" >&2; fail "cleanslam-sim"; }
 }
