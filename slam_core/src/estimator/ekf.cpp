@@ -56,7 +56,6 @@ Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
   W_.setZero(kMaxStateDim, 2 * kMaxMeasDim);
   V_.setZero(2 * kMaxMeasDim, kMaxStateDim);
   PHt_.setZero(kMaxStateDim, kMaxMeasDim);
-  llt_ = decltype(llt_)(kMaxMeasDim);
   cross_.setZero(6, kMaxStateDim);
   new_rows_.setZero(3, kMaxStateDim);
   dx_.setZero(kMaxStateDim);
@@ -173,6 +172,10 @@ int Ekf::take_slot() {
 }
 
 int Ekf::initialize_landmark(double u_px, double v_px) {
+  return initialize_landmark(u_px, v_px, config_.assumed_depth_m, config_.eps_ct_m);
+}
+
+int Ekf::initialize_landmark(double u_px, double v_px, double depth_m, double eps_ct_m) {
   auto reject = [this](ObservationResult r) {
     counters_.rejections.add(r);
     return -1;
@@ -197,13 +200,15 @@ int Ekf::initialize_landmark(double u_px, double v_px) {
       return reject(ObservationResult::kParallelRay);
     }
   }
-  const double d = config_.assumed_depth_m;
+  const double d = depth_m;
+  if (!std::isfinite(d) || !std::isfinite(eps_ct_m) || !(d > config_.min_depth_m)) {
+    return reject(ObservationResult::kNonFinite);
+  }
   const Eigen::Vector3d vc = point_at_depth(ct, d);  // eq. 13
   Eigen::Matrix<double, 3, 6> T;
   const Eigen::Vector3d y = landmark_from_camera_point(pose, vc, &T);  // eq. 39, 41-42
   const Eigen::Matrix3d Rv = measurement_covariance(
-      ct, config_.eps_ct_m,
-      normal_noise(d, config_.eps_trk_px, config_.eps_cal_px, camera_.focal_px()));
+      ct, eps_ct_m, normal_noise(d, config_.eps_trk_px, config_.eps_cal_px, camera_.focal_px()));
   Eigen::Matrix3d Py = T * P_.topLeftCorner<6, 6>() * T.transpose() + C * Rv * C.transpose();
   Py = 0.5 * (Py + Py.transpose()).eval();  // eq. 40
   if (!y.allFinite() || !Py.allFinite()) {

@@ -65,6 +65,8 @@ class Ekf {
   // Eq. 39-45. Returns the slot, or -1 (reason counted). A full pool replaces the least useful
   // landmark: the one fused least recently, then the one fused fewest times.
   int initialize_landmark(double u_px, double v_px);
+  // The same at a depth known from elsewhere, with std. dev. eps_ct_m along the ray.
+  int initialize_landmark(double u_px, double v_px, double depth_m, double eps_ct_m);
 
   void delete_landmark(int slot);
 
