@@ -144,9 +144,11 @@ std::int32_t TickExtender::extend(std::int32_t ticks24) {
 SequenceTracker::Result SequenceTracker::observe(std::uint8_t seq) {
   last_gap_ = 0;
   if (!started_) {
+    // After a resynchronization the running number goes on, so it never runs backwards.
+    extended_ = ever_started_ ? extended_ + 1U : seq;
     started_ = true;
+    ever_started_ = true;
     last_ = seq;
-    extended_ = seq;
     return Result::kFirst;
   }
   const auto diff = static_cast<std::uint8_t>(seq - last_);
@@ -156,6 +158,7 @@ SequenceTracker::Result SequenceTracker::observe(std::uint8_t seq) {
   if (diff >= 128) {
     // Behind the last one: a reordered frame or a board reset. Resynchronize on it.
     last_ = seq;
+    ++extended_;
     return Result::kOutOfOrder;
   }
   last_ = seq;

@@ -2,12 +2,13 @@
 # Boots Debian's arm64 kernel under qemu-system-aarch64 (TCG) with an initramfs holding static
 # busybox, the modules of docs/platform-notes.md (vcan, can-raw, vivid; the PL061 GPIO is built
 # in) and the static aarch64 checkers, and reports the guest's KERNEL-TEST lines.
-#   run_guest.sh --checkers DIR --cache DIR --work DIR [--timeout S] [--files DIR]
-# Exit status 0 when the guest printed "KERNEL-VERDICT PASS". The console log is WORK/console.log.
+#   run_guest.sh --checkers DIR --cache DIR --work DIR [--timeout S] [--files DIR] [--any-verdict]
+# Exit status 0 when the guest printed "KERNEL-VERDICT PASS" and no check failed (with
+# --any-verdict: when it printed a verdict at all). The console log is WORK/console.log.
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
-checkers="" cache="" work="" timeout=100 files=""
+checkers="" cache="" work="" timeout=100 files="" any_verdict=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --checkers) checkers=$2; shift 2 ;;
@@ -15,6 +16,7 @@ while [ $# -gt 0 ]; do
     --work) work=$2; shift 2 ;;
     --timeout) timeout=$2; shift 2 ;;
     --files) files=$2; shift 2 ;;
+    --any-verdict) any_verdict=--any-verdict; shift ;;
     *) echo "run_guest.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -71,7 +73,7 @@ chmod +x "$rd/init" "$rd"/checkers/*
 (cd "$rd" && find . | cpio -o -H newc --quiet | gzip -1) > "$work/initrd.cpio.gz"
 
 # 3. Boot, feed the monitor what the guest asks for, read the verdict.
-exec python3 "$here/guest_console.py" --timeout "$timeout" --log "$work/console.log" \
+exec python3 "$here/guest_console.py" --timeout "$timeout" --log "$work/console.log" $any_verdict \
   --monitor "$work/monitor.sock" -- \
   qemu-system-aarch64 -M virt -cpu cortex-a57 -smp 1 -m 512 -nographic -no-reboot \
   -kernel "$kroot/boot/vmlinuz-$kver" -initrd "$work/initrd.cpio.gz" \

@@ -142,7 +142,12 @@ TEST(SequenceTracker, CountsGapsDuplicatesAndResets) {
   EXPECT_EQ(s.extended(), 250U + 8U);
   EXPECT_EQ(s.observe(2), R::kDuplicate);
   EXPECT_EQ(s.observe(1), R::kOutOfOrder);
+  EXPECT_EQ(s.extended(), 259U);
   EXPECT_EQ(s.observe(2), R::kInOrder);
+  EXPECT_EQ(s.extended(), 260U);
+  s.reset();
+  EXPECT_EQ(s.observe(77), R::kFirst);
+  EXPECT_EQ(s.extended(), 261U);
 }
 
 TEST(Yaw, OfQuaternion) {

@@ -81,12 +81,13 @@ class SequenceTracker {
   Result observe(std::uint8_t seq);
   // Frames missing before the last observed one (for kGap).
   [[nodiscard]] unsigned last_gap() const { return last_gap_; }
-  // Running 32-bit sequence number counting missing frames too.
+  // Running 32-bit sequence number counting missing frames too; never decreases.
   [[nodiscard]] std::uint32_t extended() const { return extended_; }
   void reset() { started_ = false; }
 
  private:
   bool started_ = false;
+  bool ever_started_ = false;
   std::uint8_t last_ = 0;
   unsigned last_gap_ = 0;
   std::uint32_t extended_ = 0;
