@@ -154,7 +154,8 @@ class FakeOs : public Os {
     timer_delay_ns = delay_ns;
     return 0;
   }
-  bool poll_readable(int, hal::TimeNs) override { return false; }
+  std::function<bool(int)> readable_hook;
+  bool poll_readable(int fd, hal::TimeNs) override { return readable_hook && readable_hook(fd); }
   [[nodiscard]] hal::TimeNs monotonic_now() const override { return mono_ns; }
   [[nodiscard]] hal::TimeNs realtime_now() const override { return mono_ns + realtime_offset_ns; }
 
