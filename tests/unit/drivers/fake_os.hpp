@@ -125,8 +125,10 @@ class FakeOs : public Os {
       return -1;
     }
     std::memcpy(message->msg_iov[0].iov_base, &r.frame, sizeof r.frame);
-    if (r.realtime_ns >= 0 && timestamps_enabled) {
-      cmsghdr* c = CMSG_FIRSTHDR(message);
+    cmsghdr* c = message->msg_controllen >= sizeof(cmsghdr)
+                     ? static_cast<cmsghdr*>(message->msg_control)
+                     : nullptr;
+    if (r.realtime_ns >= 0 && timestamps_enabled && c != nullptr) {
       c->cmsg_level = SOL_SOCKET;
       c->cmsg_type = SCM_TIMESTAMPNS;
       c->cmsg_len = CMSG_LEN(sizeof(timespec));
