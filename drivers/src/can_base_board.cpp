@@ -26,6 +26,9 @@ CanBaseBoard::CanBaseBoard(CanBaseBoardConfig config, Os& os, Diagnostics& diagn
       diagnostics_(diagnostics),
       readiness_(os),
       backoff_(config_.reopen_min_ns, config_.reopen_max_ns) {
+  if (config_.max_frames_per_read < 1) {
+    config_.max_frames_per_read = 1;
+  }
   if (!open_socket()) {
     schedule_reopen();
   }

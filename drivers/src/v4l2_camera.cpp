@@ -48,6 +48,19 @@ V4l2Camera::V4l2Camera(V4l2CameraConfig config, Os& os, Diagnostics& diagnostics
       readiness_(os),
       backoff_(config_.reopen_min_ns, config_.reopen_max_ns),
       image_(static_cast<std::size_t>(kWidth * kHeight)) {
+  if (!(config_.rate_hz > 0.0 && config_.rate_hz <= 60.0)) {
+    reportf(diagnostics_, Severity::kWarning, kComponent,
+            "rate_hz = %g is outside (0, 60]: using 2 Hz", config_.rate_hz);
+    config_.rate_hz = 2.0;
+  }
+  if (!(config_.device_fps > 0.0 && config_.device_fps <= 240.0)) {
+    reportf(diagnostics_, Severity::kWarning, kComponent,
+            "device_fps = %g is outside (0, 240]: using 5", config_.device_fps);
+    config_.device_fps = 5.0;
+  }
+  if (config_.max_scale < 1) {
+    config_.max_scale = 1;
+  }
   if (config_.buffers < 2) {
     reportf(diagnostics_, Severity::kWarning, kComponent,
             "buffers = %d is too few for streaming: using 2", config_.buffers);

@@ -42,11 +42,13 @@ class FakeV4l2 : public FakeOs {
   int device_fd = -1;
   v4l2_pix_format format{};
   std::vector<std::vector<std::uint8_t>> buffers;
-  std::set<std::uint32_t> queued;
+  std::vector<std::uint32_t> queued;  // reserved: queueing allocates nothing
   std::deque<Ready> ready;
   bool streaming = false;
   int mapped = 0;
   std::uint32_t next_sequence = 0;
+
+  FakeV4l2() { queued.reserve(64); }
 
   int open(const char* p, int) override {
     if (!present || path != p) {
@@ -186,7 +188,7 @@ class FakeV4l2 : public FakeOs {
         return 0;
       }
       case VIDIOC_QBUF: {
-        queued.insert(static_cast<v4l2_buffer*>(arg)->index);
+        queued.push_back(static_cast<v4l2_buffer*>(arg)->index);
         return 0;
       }
       case VIDIOC_DQBUF: {

@@ -248,3 +248,19 @@ TEST(Luma, GreyYuyvAndBoxReduction) {
 
 }  // namespace
 }  // namespace cleanslam::drivers
+
+namespace cleanslam::drivers {
+namespace {
+
+TEST(V4l2CameraConfig, OutOfRangeRateIsReplacedAndSaid) {
+  testing::FakeV4l2 os;
+  testing::RecordingDiagnostics diag;
+  V4l2CameraConfig config;
+  config.rate_hz = 0.0;
+  V4l2Camera camera(config, os, diag);
+  EXPECT_TRUE(camera.streaming());
+  EXPECT_TRUE(diag.any_contains("rate_hz = 0 is outside (0, 60]: using 2 Hz")) << diag.all();
+}
+
+}  // namespace
+}  // namespace cleanslam::drivers
