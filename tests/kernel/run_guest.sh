@@ -3,12 +3,14 @@
 # busybox, the modules of docs/platform-notes.md (vcan, can-raw, vivid; the PL061 GPIO is built
 # in) and the static aarch64 checkers, and reports the guest's KERNEL-TEST lines.
 #   run_guest.sh --checkers DIR --cache DIR --work DIR [--timeout S] [--files DIR] [--any-verdict]
+#                [--program FILE]   (a dynamically linked aarch64 program, copied to /program/ with
+#                                    its shared libraries)
 # Exit status 0 when the guest printed "KERNEL-VERDICT PASS" and no check failed (with
 # --any-verdict: when it printed a verdict at all). The console log is WORK/console.log.
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
-checkers="" cache="" work="" timeout=100 files="" any_verdict=""
+checkers="" cache="" work="" timeout=100 files="" any_verdict="" program=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --checkers) checkers=$2; shift 2 ;;
@@ -17,6 +19,7 @@ while [ $# -gt 0 ]; do
     --timeout) timeout=$2; shift 2 ;;
     --files) files=$2; shift 2 ;;
     --any-verdict) any_verdict=--any-verdict; shift ;;
+    --program) program=$2; shift 2 ;;
     *) echo "run_guest.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -68,6 +71,29 @@ for mod in vcan can-raw vivid; do
 done
 cp "$checkers"/kernel_check_* "$rd/checkers/"
 [ -n "$files" ] && cp -r "$files"/. "$rd/files/"
+if [ -n "$program" ]; then
+  # The program and, recursively, the shared libraries it needs, from the arm64 multiarch tree.
+  mkdir -p "$rd/program" "$rd/lib/aarch64-linux-gnu"
+  cp "$program" "$rd/program/"
+  find_lib() {
+    for dir in /usr/aarch64-linux-gnu/lib /usr/lib/aarch64-linux-gnu /lib/aarch64-linux-gnu; do
+      [ -e "$dir/$1" ] && { readlink -f "$dir/$1"; return 0; }
+    done
+    return 1
+  }
+  pending=$(aarch64-linux-gnu-readelf -d "$program" | sed -n 's/.*Shared library: \[\(.*\)\]/\1/p')
+  while [ -n "$pending" ]; do
+    next=""
+    for lib in $pending; do
+      [ -e "$rd/lib/aarch64-linux-gnu/$lib" ] && continue
+      path=$(find_lib "$lib") || { echo "run_guest.sh: $lib (needed by $program) not found" >&2; exit 2; }
+      cp "$path" "$rd/lib/aarch64-linux-gnu/$lib"
+      next="$next $(aarch64-linux-gnu-readelf -d "$path" | sed -n 's/.*Shared library: \[\(.*\)\]/\1/p')"
+    done
+    pending=$next
+  done
+  cp "$(find_lib ld-linux-aarch64.so.1)" "$rd/lib/ld-linux-aarch64.so.1"
+fi
 cp "$here/guest_init.sh" "$rd/init"
 chmod +x "$rd/init" "$rd"/checkers/*
 (cd "$rd" && find . | cpio -o -H newc --quiet | gzip -1) > "$work/initrd.cpio.gz"
