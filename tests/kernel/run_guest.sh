@@ -48,6 +48,7 @@ if [ ! -s "$kver_file" ] || [ ! -d "$cache/root/lib/modules/$(cat "$kver_file")"
     echo "run_guest.sh: apt-get download $pkg:arm64 busybox-static:arm64 failed" >&2; exit 2; }
   mkdir -p "$cache/root"
   for deb in "$cache"/*.deb; do dpkg-deb -x "$deb" "$cache/root"; done
+  rm -f "$cache"/*.deb
   depmod -b "$cache/root" "$kver"
   echo "$kver" > "$kver_file"
 fi
