@@ -2,10 +2,11 @@
 # The package test: builds the .deb from an aarch64 build tree, inspects it (control fields,
 # files, conffiles, hardened unit, udev rules) and runs the packaged binary under qemu-user
 # against a simulated dataset.
-#   test_package.sh BUILD_DIR WORK_DIR
+#   test_package.sh BUILD_DIR WORK_DIR [--run-dataset]
 set -euo pipefail
 build=$1
 work=$2
+run_dataset=${3:-}
 fail() { echo "package test: FAIL: $*" >&2; exit 1; }
 
 rm -rf "$work"
@@ -61,6 +62,10 @@ bin="$work/root/usr/bin/cleanslam"
 "${qemu[@]}" "$bin" --version >"$work/version.txt" 2>&1 || fail "cleanslam --version failed: $(cat "$work/version.txt")"
 echo "packaged binary: $(head -1 "$work/version.txt")"
 
+if [ "$run_dataset" != "--run-dataset" ]; then
+  echo "package test: PASS (contents; no dataset run asked)"
+  exit 0
+fi
 sim="$build/tools/sim/cleanslam-sim"
 [ -x "$sim" ] || fail "no $sim to make a dataset"
 "${qemu[@]}" "$sim" corridor "$work/dataset" --set duration_s=6 >"$work/sim.log" 2>&1 ||
