@@ -54,6 +54,19 @@ for line in "Type=notify" "User=cleanslam" "Restart=on-failure" "WatchdogSec=5s"
 done
 grep -q 'SUBSYSTEM=="gpio", KERNEL=="gpiochip\*", GROUP="cleanslam"' \
   "$work/root/usr/lib/udev/rules.d/60-cleanslam.rules" || fail "no udev rule for gpiochip"
+if command -v systemd-analyze >/dev/null; then
+  # The unit as systemd reads it (the binary path swapped for one that exists here).
+  mkdir -p "$work/unit"
+  sed 's|^ExecStart=/usr/bin/cleanslam|ExecStart=/bin/true|' "$unit" >"$work/unit/cleanslam.service"
+  if systemd-analyze verify "$work/unit/cleanslam.service" 2>&1 | grep -v "^$" >"$work/verify.log"; then
+    cat "$work/verify.log" >&2
+    fail "systemd-analyze verify complains about the unit"
+  fi
+  exposure=$(systemd-analyze security --offline=yes "$work/unit/cleanslam.service" 2>/dev/null |
+    sed -n 's/.*Overall exposure level for cleanslam.service: \([0-9.]*\).*/\1/p')
+  echo "systemd-analyze security: exposure $exposure"
+  awk -v e="$exposure" 'BEGIN { exit !(e != "" && e < 3.0) }' || fail "exposure '$exposure' is not below 3.0"
+fi
 echo "package contents, control and unit: as expected"
 
 # The packaged binary under qemu-user.
