@@ -175,7 +175,6 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.diagnostics_path = s.text("diagnostics", x.diagnostics_path);
     x.can = s.flag("can", x.can);
     x.can_interface = s.text("can_interface", x.can_interface);
-    x.can_id = s.integer("can_id", x.can_id, 0, 0x7FF);
     s.done();
   }
   {
@@ -359,8 +358,7 @@ std::string config_text(const FirmwareConfig& c) {
     << "  tum: " << quoted(k.tum_path) << "\n"
     << "  diagnostics: " << quoted(k.diagnostics_path) << "\n"
     << "  can: " << (k.can ? "true" : "false") << "\n"
-    << "  can_interface: " << quoted(k.can_interface) << "\n"
-    << "  can_id: " << k.can_id << "\n";
+    << "  can_interface: " << quoted(k.can_interface) << "\n";
   const auto& r = c.recorder;
   s << "recorder:\n"
     << "  path: " << quoted(r.path) << "\n"

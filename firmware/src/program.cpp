@@ -4,6 +4,7 @@
 #include <cstring>
 #include <optional>
 
+#include "cleanslam/drivers/robot_drivers.hpp"
 #include "cleanslam/firmware/clocks.hpp"
 #include "cleanslam/firmware/recorder.hpp"
 #include "cleanslam/firmware/replay_check.hpp"
@@ -218,6 +219,7 @@ int run_normal(const Args& args) {
   FirmwareConfig config = cfg.config;
   std::unique_ptr<hal::SensorSource> source;
   std::optional<sim_hal::LogReader> log;
+  std::unique_ptr<drivers::RobotDrivers> robot;
   switch (config.source.kind) {
     case SourceSettings::Kind::kDataset: {
       auto ds = sim_hal::DatasetSource::open(config.source.path);
@@ -249,15 +251,32 @@ int run_normal(const Args& args) {
       source = std::make_unique<sim_hal::LogSource>(*log, sim_hal::LogSource::Pacing::kEventTime);
       break;
     }
-    case SourceSettings::Kind::kDrivers:
-      std::fprintf(stderr,
-                   "cleanslam: error: source.kind: drivers: the V4L2/SocketCAN/GPIO sources are "
-                   "not wired into this build yet; use a dataset or a log\n");
-      return 2;
+    case SourceSettings::Kind::kDrivers: {
+      drivers::RobotDriversConfig dc;
+      dc.can.interface = config.source.can_interface;
+      dc.camera.device = config.source.camera_device;
+      dc.camera.rate_hz = config.loop.frame_rate_hz;
+      if (config.source.lift_line >= 0) {
+        dc.lift.gpio.chip = config.source.gpio_chip;
+        dc.lift.gpio.line = std::to_string(config.source.lift_line);
+      }
+      dc.pose_interface = config.sinks.can ? config.sinks.can_interface : std::string();
+      robot = std::make_unique<drivers::RobotDrivers>(dc);
+      break;
+    }
   }
   const std::unique_ptr<Estimator> estimator = make_estimator(config);
   Loop loop(config.loop, *estimator);
-  loop.add_source(source.get());
+  if (robot) {
+    for (int i = 0; i < robot->source_count(); ++i) {
+      loop.add_source(robot->sources()[i]);
+    }
+    if (robot->pose_sink() != nullptr) {
+      loop.add_pose_sink(robot->pose_sink());
+    }
+  } else {
+    loop.add_source(source.get());
+  }
   if (log) {
     report_log_defects(*log, &loop);
   }
@@ -278,10 +297,10 @@ int run_normal(const Args& args) {
     }
     loop.add_update_sink(&diagnostics);
   }
-  if (config.sinks.can) {
+  if (config.sinks.can && !robot) {
     std::fprintf(stderr,
-                 "cleanslam: warning: sinks.can: the CAN pose sink is not wired into "
-                 "this build yet; ignored\n");
+                 "cleanslam: warning: sinks.can: the CAN pose sink needs source.kind: drivers; "
+                 "ignored\n");
   }
   Recorder recorder;
   if (!config.recorder.path.empty()) {
@@ -298,8 +317,14 @@ int run_normal(const Args& args) {
   StderrHealth health;
   loop.set_health_observer(&health);
   StopSignals signals;
-  VirtualClock clock;
-  const RunEnd end = run_virtual(loop, clock, config.source.realtime, &signals);
+  RunEnd end = RunEnd::kStopped;
+  if (robot) {
+    MonotonicClock clock;
+    end = run_live(loop, clock, signals);
+  } else {
+    VirtualClock clock;
+    end = run_virtual(loop, clock, config.source.realtime, &signals);
+  }
   recorder.close();
   print_summary(loop, stderr);
   if (end == RunEnd::kStopped) {

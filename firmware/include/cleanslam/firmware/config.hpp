@@ -42,11 +42,10 @@ struct SourceSettings {
 };
 
 struct SinkSettings {
-  std::string tum_path;          // TUM trajectory file; empty: none
-  std::string diagnostics_path;  // per-update records (CSV); empty: none
-  bool can = false;              // CAN pose frame through the driver
-  std::string can_interface = "can0";
-  int can_id = 0x310;
+  std::string tum_path;                // TUM trajectory file; empty: none
+  std::string diagnostics_path;        // per-update records (CSV); empty: none
+  bool can = false;                    // CAN pose frame through the driver
+  std::string can_interface = "can0";  // pose frames 0x201/0x202 of docs/can.md
 };
 
 struct FirmwareConfig {
