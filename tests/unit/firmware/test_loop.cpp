@@ -240,6 +240,46 @@ TEST(Loop, BadFramesAndFeaturesAreCounted) {
   EXPECT_EQ(rig.est.frame.feature_count, 2);
 }
 
+TEST(Loop, LiftedRobotLosesThePoseAndStartsANewMapWhenSetDown) {
+  Rig rig;
+  rig.src.drive(1 * kS, 2 * kS, 2.0, never_silent());
+  const auto lift = [&](hal::TimeNs t, bool lifted) {
+    hal::SensorEvent ev;
+    ev.kind = SensorEvent::Kind::kLift;
+    ev.lifted = lifted;
+    rig.src.items.push_back({t, ev});
+  };
+  lift(2 * kS, true);
+  rig.src.drive(2 * kS, 3 * kS, 2.0, [](SensorEvent::Kind k, hal::TimeNs) {
+    return k != SensorEvent::Kind::kFrame;  // frames while lifted are not processed
+  });
+  lift(3 * kS, false);
+  rig.src.drive(3 * kS, 4 * kS, 2.0, never_silent());
+  Loop loop(rig.options, rig.est);
+  rig.run(loop);
+  rig.for_poses(2 * kS, 3 * kS, [](const hal::PoseEstimate& p) {
+    EXPECT_EQ(p.health & (hal::kLifted | hal::kPoseLost), hal::kLifted | hal::kPoseLost) << p.t_ns;
+  });
+  rig.for_poses(3 * kS, 4 * kS, [](const hal::PoseEstimate& p) {
+    EXPECT_EQ(p.health & (hal::kLifted | hal::kPoseLost), 0U) << p.t_ns;
+  });
+  EXPECT_EQ(rig.est.resets, 2);  // start, and set down
+  EXPECT_EQ(loop.stats().frames_done, 2U + 2U);
+}
+
+TEST(Loop, RealtimePacingFollowsTheWallClock) {
+  Rig rig;
+  rig.src.drive(1 * kS, 1300 * kMs, 2.0, never_silent());
+  Loop loop(rig.options, rig.est);
+  loop.add_source(&rig.src);
+  firmware::MonotonicClock wall;
+  const hal::TimeNs t0 = wall.now();
+  firmware::run_virtual(loop, rig.clock, true, nullptr);
+  const hal::TimeNs elapsed = wall.now() - t0;
+  EXPECT_GE(elapsed, 280 * kMs);
+  EXPECT_EQ(loop.stats().gyro, 30U);
+}
+
 TEST(Loop, StopSignalEndsTheRunCleanly) {
   Rig rig;
   rig.src.drive(1 * kS, 100 * kS, 2.0, never_silent());
