@@ -127,6 +127,23 @@ bool make_template(const LandmarkPatch& patch, double scale, float min_std_gray,
     }
   }
   out.sum_sq = ss;
+  float sgx = 0.0F;
+  float sgy = 0.0F;
+  float sgxt = 0.0F;
+  float sgyt = 0.0F;
+  float st = 0.0F;
+  for (std::size_t i = 0; i < out.zero_mean.size(); ++i) {
+    sgx += out.gx[i];
+    sgy += out.gy[i];
+    sgxt += out.gx[i] * out.zero_mean[i];
+    sgyt += out.gy[i] * out.zero_mean[i];
+    st += out.zero_mean[i];
+  }
+  out.sum_gx = sgx;
+  out.sum_gy = sgy;
+  out.sum_gx_t = sgxt;
+  out.sum_gy_t = sgyt;
+  out.sum_t = st;
   const float min_ss = min_std_gray * min_std_gray * static_cast<float>(kPatchSize * kPatchSize);
   const float det = hxx * hyy - hxy * hxy;
   // The smaller eigenvalue of H relative to the larger: an edge (aperture problem) is rejected.

@@ -11,9 +11,18 @@ namespace {
 
 constexpr int kN = kPatchSize * kPatchSize;
 
-// Samples the 15x15 window centred on (u, v) into `out` (translation only: one set of bilinear
-// weights for all pixels) and returns false when it does not fit inside the image.
-bool sample_window(const hal::GrayImageView& image, double u, double v, float* out) {
+// One pass over the 15x15 window centred on (u, v), sampled bilinearly (translation only: one
+// set of weights for all pixels), gathering the sums the Lucas-Kanade step and the NCC need.
+struct WindowSums {
+  float s1 = 0.0F;   // sum w
+  float s2 = 0.0F;   // sum w^2
+  float sgx = 0.0F;  // sum gx w
+  float sgy = 0.0F;  // sum gy w
+  float swt = 0.0F;  // sum w t
+};
+
+bool window_sums(const hal::GrayImageView& image, const PatchTemplate& tmpl, double u, double v,
+                 WindowSums& out) {
   if (!(u >= kPatchRadius) || !(v >= kPatchRadius)) {
     return false;
   }
@@ -30,31 +39,31 @@ bool sample_window(const hal::GrayImageView& image, double u, double v, float* o
   const float w01 = ax * (1.0F - ay);
   const float w10 = (1.0F - ax) * ay;
   const float w11 = ax * ay;
+  // Centred on mid-gray so that the float sums of squares keep their precision.
+  constexpr float kBias = 128.0F;
+  float s1 = 0.0F;
+  float s2 = 0.0F;
+  float sgx = 0.0F;
+  float sgy = 0.0F;
+  float swt = 0.0F;
   for (int r = 0; r < kPatchSize; ++r) {
     const std::uint8_t* a = image.row(iy + r) + ix;
     const std::uint8_t* b = a + image.stride;
-    float* dst = out + r * kPatchSize;
+    const float* gx = tmpl.gx.data() + r * kPatchSize;
+    const float* gy = tmpl.gy.data() + r * kPatchSize;
+    const float* t = tmpl.zero_mean.data() + r * kPatchSize;
     for (int c = 0; c < kPatchSize; ++c) {
-      dst[c] = w00 * static_cast<float>(a[c]) + w01 * static_cast<float>(a[c + 1]) +
-               w10 * static_cast<float>(b[c]) + w11 * static_cast<float>(b[c + 1]);
+      const float w = w00 * static_cast<float>(a[c]) + w01 * static_cast<float>(a[c + 1]) +
+                      w10 * static_cast<float>(b[c]) + w11 * static_cast<float>(b[c + 1]) - kBias;
+      s1 += w;
+      s2 += w * w;
+      sgx += gx[c] * w;
+      sgy += gy[c] * w;
+      swt += t[c] * w;
     }
   }
+  out = {s1, s2, sgx, sgy, swt};
   return true;
-}
-
-// Makes the window zero-mean and returns its sum of squares.
-float zero_mean(float* w) {
-  float sum = 0.0F;
-  for (int i = 0; i < kN; ++i) {
-    sum += w[i];
-  }
-  const float mean = sum / static_cast<float>(kN);
-  float ss = 0.0F;
-  for (int i = 0; i < kN; ++i) {
-    w[i] -= mean;
-    ss += w[i] * w[i];
-  }
-  return ss;
 }
 
 }  // namespace
@@ -65,40 +74,37 @@ Refinement Tracker::refine(const hal::GrayImageView& image, const PatchTemplate&
   if (!tmpl.valid) {
     return out;
   }
-  std::array<float, kN> w{};
   const float min_ss = config_.min_window_std * config_.min_window_std * static_cast<float>(kN);
-  double u = u_px;
-  double v = v_px;
-  const float* t = tmpl.zero_mean.data();
-  const float* gx = tmpl.gx.data();
-  const float* gy = tmpl.gy.data();
   const double max_travel2 =
       static_cast<double>(config_.max_travel_px) * static_cast<double>(config_.max_travel_px);
   const double eps2 =
       static_cast<double>(config_.convergence_px) * static_cast<double>(config_.convergence_px);
+  double u = u_px;
+  double v = v_px;
   bool converged = false;
   double last_step2 = 0.0;
+  float ncc = 0.0F;
   int it = 0;
+  WindowSums ws;
   while (it < config_.max_iterations) {
     ++it;
-    if (!sample_window(image, u, v, w.data())) {
+    if (!window_sums(image, tmpl, u, v, ws)) {
       out.iterations = it;
       return out;
     }
-    const float ss = zero_mean(w.data());
+    const float mean = ws.s1 / static_cast<float>(kN);
+    const float ss = ws.s2 - ws.s1 * mean;
     if (!(ss > min_ss)) {
       out.iterations = it;
       return out;
     }
-    // Contrast matched to the template's: residual w / g - t with g = sqrt(ss_w / ss_t).
+    // NCC at this iterate: sum (w - mean) t / sqrt(ss_w ss_t).
+    ncc = (ws.swt - mean * tmpl.sum_t) / std::sqrt(ss * tmpl.sum_sq);
+    // Zero-mean residual with the window's contrast matched to the template's:
+    // e = (w - mean) / g - t, g = sqrt(ss_w / ss_t); b = sum grad(T) e.
     const float inv_g = std::sqrt(tmpl.sum_sq / ss);
-    float bx = 0.0F;
-    float by = 0.0F;
-    for (int i = 0; i < kN; ++i) {
-      const float e = w[static_cast<std::size_t>(i)] * inv_g - t[i];
-      bx += gx[i] * e;
-      by += gy[i] * e;
-    }
+    const float bx = (ws.sgx - mean * tmpl.sum_gx) * inv_g - tmpl.sum_gx_t;
+    const float by = (ws.sgy - mean * tmpl.sum_gy) * inv_g - tmpl.sum_gy_t;
     const auto dx = static_cast<double>(tmpl.h_inv_xx * bx + tmpl.h_inv_xy * by);
     const auto dy = static_cast<double>(tmpl.h_inv_xy * bx + tmpl.h_inv_yy * by);
     // Inverse compositional update of a translation: p <- p - dp.
@@ -117,21 +123,11 @@ Refinement Tracker::refine(const hal::GrayImageView& image, const PatchTemplate&
     }
   }
   out.iterations = it;
-  // A run that used all its iterations still counts when it settled to within a tenth of a pixel.
-  if (!sample_window(image, u, v, w.data())) {
-    return out;
-  }
-  const float ss = zero_mean(w.data());
-  if (!(ss > min_ss)) {
-    return out;
-  }
-  float cross = 0.0F;
-  for (int i = 0; i < kN; ++i) {
-    cross += w[static_cast<std::size_t>(i)] * t[i];
-  }
-  out.ncc = cross / std::sqrt(ss * tmpl.sum_sq);
   out.u_px = u;
   out.v_px = v;
+  // The NCC of the last iterate, at most the last (sub-threshold) step away. A run that used all
+  // its iterations still counts when it settled to within a tenth of a pixel.
+  out.ncc = ncc;
   out.converged = converged || last_step2 < 0.01;
   return out;
 }
@@ -194,9 +190,28 @@ TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate&
   bool any = false;
   Refinement best;
   double best_m2 = 0.0;
+  std::array<double, kMaxStarts> done_u{};
+  std::array<double, kMaxStarts> done_v{};
+  int done = 0;
   for (int i = 0; i < n; ++i) {
-    const Refinement r =
-        refine(image, tmpl, su[static_cast<std::size_t>(i)], sv[static_cast<std::size_t>(i)]);
+    const double u0 = su[static_cast<std::size_t>(i)];
+    const double v0 = sv[static_cast<std::size_t>(i)];
+    // A start next to a point a previous run converged to would converge there again.
+    bool repeat = false;
+    for (int j = 0; j < done && !repeat; ++j) {
+      const double du = done_u[static_cast<std::size_t>(j)] - u0;
+      const double dv = done_v[static_cast<std::size_t>(j)] - v0;
+      repeat = du * du + dv * dv < 0.5;
+    }
+    if (repeat) {
+      continue;
+    }
+    const Refinement r = refine(image, tmpl, u0, v0);
+    if (r.converged) {
+      done_u[static_cast<std::size_t>(done)] = r.u_px;
+      done_v[static_cast<std::size_t>(done)] = r.v_px;
+      ++done;
+    }
     ++result.starts_tried;
     result.iterations += r.iterations;
     if (!r.converged || !region.contains(r.u_px, r.v_px)) {

@@ -2,12 +2,16 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 #include "allocation_counter.hpp"
+#include "cleanslam/slam_core/frontend/frame_pipeline.hpp"
 #include "cleanslam/slam_core/frontend/harris.hpp"
 #include "cleanslam/slam_core/frontend/jcbb.hpp"
 #include "cleanslam/slam_core/frontend/patch.hpp"
 #include "cleanslam/slam_core/frontend/search_region.hpp"
 #include "cleanslam/slam_core/frontend/tracker.hpp"
+#include "frontend_fake_estimator.hpp"
 #include "frontend_synthetic.hpp"
 
 namespace fe = cleanslam::slam_core::frontend;
@@ -92,4 +96,54 @@ TEST(FrontendAllocation, FrameProcessingAllocatesNothing) {
   EXPECT_EQ(slots, kM);
   EXPECT_GE(tracked, kM - 2);
   EXPECT_EQ(jr.inlier_count, tracked);
+}
+
+// Whole frames through the resumable pipeline (initialization, tracking, JCBB, update, deletion,
+// a rejected frame and a featureless one) allocate nothing after construction.
+TEST(FrontendAllocation, FramePipelineAllocatesNothing) {
+  fe::FramePipeline pipe;
+  cleanslam::test::FakeEstimator est;
+  std::vector<GrayImage> frames;
+  for (int k = 0; k < 4; ++k) {
+    Warp w;
+    w.scale = 1.0 + 0.05 * k;
+    w.shift_x = 2.0 * k;
+    frames.push_back(render(w));
+  }
+  GrayImage covered = frames[3];
+  for (int y = 0; y < 240; ++y) {
+    for (int x = 0; x < 160; ++x) {
+      covered.at(x, y) = 90;
+    }
+  }
+  const GrayImage black(320, 240, 0);
+  const GrayImage wrong(100, 100, 0);
+  int tracked = 0;
+  int updates = 0;
+  std::size_t allocations = 0;
+  {
+    Eigen::internal::set_is_malloc_allowed(false);
+    const cleanslam::test::AllocationScope scope;
+    for (int k = 0; k < 4; ++k) {
+      est.belief.scale = 1.0 + 0.05 * k;
+      est.belief.shift_x = 2.0 * k;
+      pipe.begin_frame(frames[static_cast<std::size_t>(k)].view());
+      tracked += pipe.finish(est).tracked;
+    }
+    for (int k = 0; k < 3; ++k) {
+      pipe.begin_frame(covered.view());
+      pipe.finish(est);
+    }
+    pipe.begin_frame(black.view());
+    pipe.finish(est);
+    pipe.begin_frame(wrong.view());
+    pipe.finish(est);
+    updates = est.updates;
+    allocations = scope.count();
+    Eigen::internal::set_is_malloc_allowed(true);
+  }
+  EXPECT_EQ(allocations, 0U);
+  EXPECT_GE(tracked, 25);
+  EXPECT_GE(updates, 3);
+  EXPECT_GT(est.deletions, 0);
 }

@@ -202,3 +202,28 @@ TEST(FrontendHarris, HonoursStride) {
     EXPECT_EQ(a.corners()[i].y, b.corners()[i].y);
   }
 }
+
+TEST(FrontendHarris, DetectionInBoundedStepsEqualsOneCall) {
+  const GrayImage img = render(Warp{});
+  fe::HarrisDetector whole;
+  fe::HarrisDetector pieces;
+  whole.detect(img.view(), 320, 240);
+  ASSERT_EQ(pieces.begin(img.view(), 320, 240), fe::ImageCheck::kOk);
+  int steps = 0;
+  while (!pieces.step(7)) {
+    ++steps;
+    EXPECT_EQ(pieces.corner_count(), 0);
+  }
+  EXPECT_EQ(steps + 1, (238 + 6) / 7);
+  ASSERT_EQ(whole.corner_count(), pieces.corner_count());
+  for (int i = 0; i < whole.corner_count(); ++i) {
+    EXPECT_EQ(whole.corners()[i].x, pieces.corners()[i].x);
+    EXPECT_EQ(whole.corners()[i].y, pieces.corners()[i].y);
+    EXPECT_EQ(whole.corners()[i].response, pieces.corners()[i].response);
+  }
+  // A rejected image finishes at once with no corners.
+  const GrayImage small(10, 10, 0);
+  EXPECT_EQ(pieces.begin(small.view(), 320, 240), fe::ImageCheck::kWrongSize);
+  EXPECT_TRUE(pieces.step(7));
+  EXPECT_EQ(pieces.corner_count(), 0);
+}

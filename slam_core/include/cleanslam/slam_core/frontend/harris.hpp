@@ -47,14 +47,25 @@ class HarrisDetector {
   // the detector's list, strongest first. Returns the check; on failure the list is empty.
   ImageCheck detect(const hal::GrayImageView& image, int width, int height);
 
+  // The same detection in bounded pieces for the cooperative loop: begin() checks the image
+  // (which must stay valid until step() returns true); each step() processes up to max_rows
+  // image rows, and the last one also selects the corners.
+  ImageCheck begin(const hal::GrayImageView& image, int width, int height);
+  bool step(int max_rows);
+  [[nodiscard]] bool finished() const { return finished_; }
+
   [[nodiscard]] const Corner* corners() const { return corners_.data(); }
   [[nodiscard]] int corner_count() const { return corner_count_; }
   [[nodiscard]] const HarrisConfig& config() const { return config_; }
   // Strongest response of the last frame (0 for a flat frame).
   [[nodiscard]] float max_response() const { return max_response_; }
 
- private:
+  // Working buffers (implementation detail, public for the row kernels).
   struct Planes;
+
+ private:
+  void suppress_rows(int last_response_row);
+  void select_corners();
 
   HarrisConfig config_;
   std::array<float, 7> kernel_{};
@@ -63,6 +74,11 @@ class HarrisDetector {
   std::array<Corner, hal::kMaxCorners> corners_{};
   int corner_count_ = 0;
   float max_response_ = 0.0F;
+  hal::GrayImageView image_;
+  int next_row_ = 0;
+  int nms_row_ = 0;
+  int candidate_count_ = 0;
+  bool finished_ = true;
 };
 
 }  // namespace cleanslam::slam_core::frontend

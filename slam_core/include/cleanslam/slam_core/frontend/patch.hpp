@@ -45,6 +45,12 @@ struct PatchTemplate {
   std::array<float, kPatchSize * kPatchSize> gx{};
   std::array<float, kPatchSize * kPatchSize> gy{};
   float sum_sq = 0.0F;  // sum of zero_mean^2
+  // Sums that let the tracker's single pass over the window form the zero-mean residual.
+  float sum_gx = 0.0F;
+  float sum_gy = 0.0F;
+  float sum_gx_t = 0.0F;
+  float sum_gy_t = 0.0F;
+  float sum_t = 0.0F;
   float h_inv_xx = 0.0F;
   float h_inv_xy = 0.0F;
   float h_inv_yy = 0.0F;

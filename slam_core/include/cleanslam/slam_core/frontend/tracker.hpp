@@ -34,6 +34,7 @@ enum class TrackFailure : std::uint8_t {
   kNoTemplate,
   kNoConvergence,
   kLowNcc,
+  kDuplicate,  // another landmark matched the same pixel with a higher NCC (frame pipeline)
 };
 
 struct TrackResult {
