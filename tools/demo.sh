@@ -47,5 +47,5 @@ if slam.get("ate_rmse_m") and dr.get("ate_rmse_m"):
 PY
 
 step "plots -> $out/"
-python3 tools/plot/plot_run.py "$out/run" --gt "$out/dataset/groundtruth.csv" --out "$out"
+/usr/bin/python3 tools/plot/plot_run.py "$out/run" --gt "$out/dataset/groundtruth.csv" --out "$out"
 ls "$out"/*.png

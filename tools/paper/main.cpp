@@ -26,7 +26,7 @@ constexpr const char* kUsage =
     "  fig9 [--runs N] [--seed S]                        Monte Carlo RMS error over eps_ct\n"
     "  fig7                                              true and estimated landmarks, 1-sigma\n"
     "CSV goes to stdout (units: cm); --plot also writes FILE.png (and FILE.png.csv) with\n"
-    "plot_paper.py, run by $CLEANSLAM_PYTHON (default python3) with matplotlib.\n";
+    "plot_paper.py, run by $CLEANSLAM_PYTHON (default /usr/bin/python3) with matplotlib.\n";
 
 int usage_error(const std::string& message) {
   std::cerr << "cleanslam-paper: " << message << "\n" << kUsage;

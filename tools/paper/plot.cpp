@@ -2,6 +2,7 @@
 
 #include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstdlib>
@@ -42,7 +43,11 @@ std::string find_plot_script(const char* argv0) {
 int run_plot_script(const std::string& script, const std::string& figure, const std::string& csv,
                     const std::string& png, std::string& error) {
   const char* env = std::getenv("CLEANSLAM_PYTHON");
-  std::string python = env != nullptr && *env != '\0' ? env : "python3";
+  // Debian's interpreter has python3-matplotlib; a python3 earlier on PATH (pyenv) may not.
+  const bool debian_python = access("/usr/bin/python3", X_OK) == 0;
+  std::string python = env != nullptr && *env != '\0' ? env
+                       : debian_python                ? "/usr/bin/python3"
+                                                      : "python3";
   std::vector<std::string> args{python, script, figure, csv, png};
   std::vector<char*> argv;
   for (auto& a : args) {

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Plots a CSV written by cleanslam-paper: plot_paper.py FIGURE CSV PNG (FIGURE: fig7..fig10)."""
 import csv
 import math
