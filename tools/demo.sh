@@ -11,11 +11,16 @@ bin=build/host-release/bin
 step() { printf '\n== %s\n' "$*"; }
 
 step "setup"
-tools/setup.sh
+tools/setup.sh --host-only
 
-step "build (host-release)"
+step "build (host-release: the three programs the demo runs)"
 cmake --preset host-release >/dev/null
-cmake --build --preset host-release -j "$(nproc)" | grep -E '^(FAILED|ninja: build stopped)|error' || true
+if ! cmake --build --preset host-release -j "$(nproc)" --target cleanslam-sim cleanslam-replay cleanslam-eval \
+  >build/demo-build.log 2>&1; then
+  grep -E -A5 'error|FAILED' build/demo-build.log | head -n 40
+  echo "demo: build failed (log: build/demo-build.log)" >&2
+  exit 1
+fi
 for exe in cleanslam-sim cleanslam-replay cleanslam-eval; do
   [ -x "$bin/$exe" ] || { echo "demo: $bin/$exe was not built" >&2; exit 1; }
 done

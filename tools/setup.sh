@@ -2,16 +2,26 @@
 # Installs every Debian package that building, testing and the demo need: host tools and
 # libraries, cross compilers, qemu, and the arm64 multiarch libraries. Idempotent: quiet when
 # everything is there; loud, and non-zero, when something cannot be installed.
+#   tools/setup.sh              everything (tools/test.sh)
+#   tools/setup.sh --host-only  what a host build and the demo need (tools/demo.sh)
 set -euo pipefail
 
-host_packages=(
+demo_packages=(
   cmake ninja-build pkg-config g++ file python3 python3-numpy python3-matplotlib
-  libeigen3-dev libyaml-dev libpng-dev libgtest-dev libbenchmark-dev libgpiod-dev gpiod
-  libopencv-dev valgrind clang-format can-utils v4l-utils
+  libeigen3-dev libyaml-dev libpng-dev libgtest-dev libbenchmark-dev libgpiod-dev
+)
+host_packages=(
+  "${demo_packages[@]}" gpiod libopencv-dev valgrind clang-format can-utils v4l-utils
   g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user qemu-user-static
   qemu-system-arm busybox-static cpio kmod
 )
 arm64_packages=(libgtest-dev:arm64 libyaml-dev:arm64 libpng-dev:arm64 libgpiod-dev:arm64)
+host_only=0
+case "${1:-}" in
+  "") ;;
+  --host-only) host_only=1 ;;
+  *) echo "usage: tools/setup.sh [--host-only]" >&2; exit 2 ;;
+esac
 
 say() { printf 'setup: %s\n' "$*" >&2; }
 
@@ -35,7 +45,10 @@ missing() {
   done
 }
 
-if ! dpkg --print-foreign-architectures | grep -qx arm64; then
+if [ "$host_only" -eq 1 ]; then
+  host_packages=("${demo_packages[@]}")
+  arm64_packages=()
+elif ! dpkg --print-foreign-architectures | grep -qx arm64; then
   say "adding the arm64 architecture (multiarch libraries for the aarch64 cross build)"
   "${SUDO[@]}" dpkg --add-architecture arm64
   need_update=1
