@@ -39,14 +39,17 @@ step "evaluate against ground truth"
 python3 - "$out/slam.json" "$out/dead_reckoning.json" <<'PY'
 import json, sys
 slam, dr = (json.load(open(p)) for p in sys.argv[1:3])
-rows = [("ATE RMSE [m]", "ate_rmse_m"), ("final position error [m]", "final_position_error_m"),
-        ("RPE per metre [m/m]", "rpe_per_m")]
+rows = [("ATE RMSE [m]", "ate_rmse_m"), ("final position error [m]", "final_error_m"),
+        ("orientation RMSE [deg]", "orientation_rmse_deg"),
+        ("RPE per metre [m/m]", "rpe_translation_per_m"), ("RPE per metre [deg/m]", "rpe_rotation_deg_per_m")]
 print(f"{'':28s}{'SLAM':>12s}{'dead reckoning':>18s}")
 for label, key in rows:
     if key in slam and key in dr:
         print(f"{label:28s}{slam[key]:12.4f}{dr[key]:18.4f}")
 if "path_length_m" in slam:
     print(f"{'path length [m]':28s}{slam['path_length_m']:12.2f}")
+if "nees_mean" in slam:
+    print(f"{'position NEES (3 if consistent)':28s}{slam['nees_mean']:12.1f}")
 if slam.get("ate_rmse_m") and dr.get("ate_rmse_m"):
     print(f"SLAM ATE is {dr['ate_rmse_m'] / slam['ate_rmse_m']:.1f}x smaller than dead reckoning's")
 PY
