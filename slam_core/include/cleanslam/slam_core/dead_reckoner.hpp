@@ -1,0 +1,148 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "cleanslam/hal/calibration.hpp"
+#include "cleanslam/hal/samples.hpp"
+#include "cleanslam/hal/time.hpp"
+#include "cleanslam/slam_core/odometry_increment.hpp"
+
+// The prediction input (Section 2.3): distance from the differential-drive encoders, heading
+// change from the yaw gyro (encoders alone when the gyro is silent), turned into the increment of
+// the camera pose between two camera frames (eq. 9) with its covariance Q.
+namespace cleanslam::slam_core {
+
+struct DeadReckoningConfig {
+  // Travelled-distance error is a scale error within one increment, std. dev. =
+  // wheels.distance_noise * distance; the gyro's angle random walk is gyro.noise_density and its
+  // bias error within one increment gyro.bias_instability (both from hal::Calibration).
+  // Uncertainty the dead reckoning cannot observe (held constant in the mean, eq. 3-4), per
+  // square root of the distance travelled.
+  double z_noise_m_per_sqrt_m = 0.003;
+  double roll_pitch_noise_rad_per_sqrt_m = 0.003;
+  // Heading from the encoders alone (gyro silent): random walk per square root of the wheels'
+  // summed travel; large on purpose (wheel slip).
+  double encoder_yaw_noise_rad_per_sqrt_m = 0.03;
+  // The gyro is silent when no sample came for this long.
+  double gyro_timeout_s = 0.05;
+  // A tick jump needing a faster wheel than this (plus two ticks) is implausible.
+  double max_wheel_speed_m_s = 1.5;
+  double max_gyro_rate_rad_s = 10.0;
+  // Standing still: no wheel moved more than standstill_max_ticks and |rate - bias| stayed below
+  // standstill_rate_rad_s for standstill_window_s of encoder time.
+  double standstill_window_s = 0.5;
+  double standstill_rate_rad_s = 0.02;
+  int standstill_max_ticks = 0;
+  // Bias estimate: mean of the rates seen while standing still, over at most this many samples.
+  int bias_max_samples = 3000;
+  // take_increment() extrapolates the last wheel speed at most this far past the last encoder
+  // sample (and no further back than this before it).
+  double max_extrapolation_s = 0.2;
+};
+
+struct DeadReckonerCounters {
+  std::uint64_t gyro_accepted = 0;
+  std::uint64_t gyro_out_of_order = 0;
+  std::uint64_t gyro_duplicate = 0;
+  std::uint64_t gyro_non_finite = 0;
+  std::uint64_t gyro_implausible = 0;
+  std::uint64_t encoder_accepted = 0;
+  std::uint64_t encoder_out_of_order = 0;
+  std::uint64_t encoder_duplicate = 0;
+  std::uint64_t encoder_implausible = 0;
+  std::uint64_t steps_without_gyro = 0;  // encoder intervals whose heading came from the wheels
+  std::uint64_t increments_out_of_order = 0;
+};
+
+class DeadReckoner {
+ public:
+  DeadReckoner(const hal::Calibration& calibration, const DeadReckoningConfig& config);
+
+  // False when the sample is rejected (counted by reason).
+  bool add_gyro(const hal::GyroSample& s);
+  bool add_encoder(const hal::EncoderSample& s);
+
+  // Increment of the camera pose since the previous take, interpolated to t_ns (the last wheel
+  // speed and gyro rate carry it past the last sample; the next samples account for the part
+  // taken ahead, so increments sum to the travelled path).
+  OdometryIncrement take_increment(hal::TimeNs t_ns);
+
+  [[nodiscard]] bool standing_still() const;
+  [[nodiscard]] double gyro_bias() const { return bias_; }
+  [[nodiscard]] bool gyro_silent(hal::TimeNs t_ns) const;
+
+  // Planar body pose integrated at the encoder samples since start.
+  [[nodiscard]] double x() const { return x_; }
+  [[nodiscard]] double y() const { return y_; }
+  [[nodiscard]] double yaw() const { return yaw_; }
+  [[nodiscard]] hal::TimeNs last_encoder_time() const { return enc_t_; }
+
+  [[nodiscard]] const DeadReckonerCounters& counters() const { return counters_; }
+
+ private:
+  struct Knot {
+    hal::TimeNs t = 0;
+    double theta = 0.0;  // integral of (rate - bias) since the first sample
+  };
+  struct Increment {
+    double x = 0.0;
+    double y = 0.0;
+    double yaw = 0.0;
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d d_scale = Eigen::Vector3d::Zero();  // d(x, y, yaw) / d(distance scale error)
+    Eigen::Vector3d d_bias = Eigen::Vector3d::Zero();   // d(x, y, yaw) / d(gyro bias)
+    double distance = 0.0;
+    double wheel_travel = 0.0;
+    bool gyro_used = true;
+  };
+
+  // Heading integral at t; false when the gyro does not cover t.
+  bool gyro_angle(hal::TimeNs t, double& theta) const;
+  void step(double distance, double dyaw, double yaw_var, double dt, bool gyro, double wheels);
+  OdometryIncrement camera_increment(const Increment& inc, double dt_s) const;
+
+  hal::Calibration calibration_;
+  DeadReckoningConfig config_;
+  Eigen::Matrix3d R_body_c_;
+  Eigen::Vector3d t_body_c_;
+
+  static constexpr int kKnots = 128;
+  std::array<Knot, kKnots> knots_{};
+  int knot_count_ = 0;
+  int knot_head_ = 0;  // index of the newest knot
+  double last_rate_ = 0.0;
+  hal::TimeNs gyro_series_start_ = 0;
+
+  bool have_encoder_ = false;
+  hal::TimeNs enc_t_ = 0;
+  std::int32_t enc_left_ = 0;
+  std::int32_t enc_right_ = 0;
+  double wheel_speed_ = 0.0;
+  double enc_yaw_rate_ = 0.0;
+
+  // The increment since the last take: integrated up to seg_t_, which is past the last encoder
+  // sample by pending_distance_ (and pending_yaw_ of wheel heading) when a take extrapolated.
+  Increment inc_;
+  hal::TimeNs seg_t_ = 0;
+  hal::TimeNs last_take_t_ = 0;
+  bool have_take_ = false;
+  double pending_distance_ = 0.0;
+  double pending_yaw_ = 0.0;
+
+  double x_ = 0.0;
+  double y_ = 0.0;
+  double yaw_ = 0.0;
+
+  double bias_ = 0.0;
+  int bias_samples_ = 0;
+  hal::TimeNs last_motion_t_ = 0;
+  bool have_gyro_ = false;
+  hal::TimeNs gyro_t_ = 0;
+
+  DeadReckonerCounters counters_;
+};
+
+}  // namespace cleanslam::slam_core

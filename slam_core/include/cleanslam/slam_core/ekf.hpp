@@ -1,0 +1,157 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "cleanslam/hal/calibration.hpp"
+#include "cleanslam/hal/capacities.hpp"
+#include "cleanslam/hal/pose.hpp"
+#include "cleanslam/hal/time.hpp"
+#include "cleanslam/slam_core/camera_model.hpp"
+#include "cleanslam/slam_core/ekf_config.hpp"
+#include "cleanslam/slam_core/geometry.hpp"
+#include "cleanslam/slam_core/odometry_increment.hpp"
+#include "cleanslam/slam_core/update_status.hpp"
+
+// The paper's EKF (eq. 1-27, 39-45): camera pose plus a fixed pool of landmark slots; slot i
+// occupies state rows 6+3i..6+3i+2. Unused slots' rows and columns of P stay zero. All storage
+// (about 2 MB) is allocated by the constructor; no later call allocates.
+namespace cleanslam::slam_core {
+
+struct Observation {
+  int slot = -1;
+  double u_px = 0.0;  // distorted pixel
+  double v_px = 0.0;
+};
+
+struct PixelPrediction {
+  Eigen::Vector2d uv = Eigen::Vector2d::Zero();  // distorted pixel
+  Eigen::Matrix2d S = Eigen::Matrix2d::Zero();   // H_pix P H_pix^T + R_pix
+  double depth_m = 0.0;                          // along the optical axis
+  bool in_front = false;
+};
+
+struct EkfCounters {
+  RejectionCounters rejections;  // update and initialization, by reason
+  std::uint64_t predictions = 0;
+  std::uint64_t predictions_rejected = 0;
+  std::uint64_t updates_applied = 0;
+  std::uint64_t landmarks_initialized = 0;
+  std::uint64_t landmarks_replaced = 0;
+  std::uint64_t landmarks_deleted = 0;
+};
+
+class Ekf {
+ public:
+  static constexpr int kMaxStateDim = hal::kMaxStateDim;
+  static constexpr int kMaxMeasDim = 3 * hal::kMaxObservationsPerFrame;
+  // Allocated at their maximum size by the constructor and never resized; calls work on blocks.
+  using StateVector = Eigen::VectorXd;
+  using StateMatrix = Eigen::MatrixXd;
+
+  Ekf(const hal::Calibration& calibration, const EkfConfig& config);
+  Ekf(const Ekf&) = delete;
+  Ekf& operator=(const Ekf&) = delete;
+
+  // Camera pose (x, y, z, roll, pitch, yaw) and its covariance; the map is emptied.
+  void reset(const Vector6d& camera_pose, const Matrix6d& P0);
+
+  // Eq. 3-9.
+  PredictStatus predict(const OdometryIncrement& u);
+
+  // Eq. 39-45. Returns the slot, or -1 (reason counted). A full pool replaces the least useful
+  // landmark: the one fused least recently, then the one fused fewest times.
+  int initialize_landmark(double u_px, double v_px);
+  // The same at a depth known from elsewhere, with std. dev. eps_ct_m along the ray.
+  int initialize_landmark(double u_px, double v_px, double depth_m, double eps_ct_m);
+
+  void delete_landmark(int slot);
+
+  // Per-observation gates (3-D and pixel), then one batch Joseph-form update of the survivors (eq.
+  // 25-27).
+  const UpdateStatus& update(const Observation* obs, int count);
+  [[nodiscard]] const UpdateStatus& last_update() const { return status_; }
+
+  // Predicted distorted pixel of a landmark with its 2x2 covariance, for search regions.
+  bool predict_pixel(int slot, PixelPrediction& out) const;
+
+  // Stacked pixel innovations (2m) and their joint covariance (2m x 2m, column-major) for JCBB.
+  // Returns m, or -1 when an observation has an unused slot, a bad pixel or a landmark behind the
+  // camera, or count is outside [0, hal::kMaxObservationsPerFrame].
+  int joint_pixel_innovation(const Observation* obs, int count, double* nu, double* S) const;
+
+  [[nodiscard]] Vector6d camera_pose() const { return x_.head<6>(); }
+  [[nodiscard]] Matrix6d pose_covariance() const { return P_.topLeftCorner<6, 6>(); }
+  [[nodiscard]] bool slot_used(int slot) const;
+  [[nodiscard]] Eigen::Vector3d landmark(int slot) const;
+  [[nodiscard]] Eigen::Matrix3d landmark_covariance(int slot) const;
+  [[nodiscard]] const std::array<bool, hal::kMaxLandmarks>& used_mask() const { return used_; }
+  [[nodiscard]] int landmark_count() const { return landmark_count_; }
+  // Rows of the state in use: 6 + 3 * (highest used slot + 1).
+  [[nodiscard]] int active_dim() const { return active_dim_; }
+  [[nodiscard]] const StateVector& state() const { return x_; }
+  [[nodiscard]] const StateMatrix& covariance() const { return P_; }
+  [[nodiscard]] const EkfCounters& counters() const { return counters_; }
+  [[nodiscard]] const CameraModel& camera() const { return camera_; }
+  [[nodiscard]] const EkfConfig& config() const { return config_; }
+
+  // Body pose (through T_body_c) with its covariance, landmark count filled in.
+  [[nodiscard]] hal::PoseEstimate body_pose_estimate(hal::TimeNs t_ns) const;
+
+ private:
+  struct SlotInfo {
+    std::uint64_t last_fused = 0;  // update counter at the last fusion or initialization
+    std::uint32_t fused = 0;
+  };
+  static int row_of(int slot) { return hal::kPoseDim + hal::kLandmarkDim * slot; }
+  [[nodiscard]] bool valid_used_slot(int slot) const;
+  int take_slot();
+  void recompute_active_dim();
+  ObservationResult measure(const Observation& o, Eigen::Vector3d& z, Eigen::Matrix3d& R,
+                            Eigen::Vector3d& h, Eigen::Matrix<double, 3, 6>& Hp,
+                            Eigen::Matrix3d& Hl) const;
+  bool pixel_jacobian(int slot, Eigen::Vector2d& uv, Eigen::Matrix<double, 2, 6>& Jp,
+                      Eigen::Matrix<double, 2, 3>& Jl, double& depth) const;
+  ObservationResult pixel_gate(const Observation& o, ObservationStatus& st) const;
+  ObservationResult fuse(int m);
+  void symmetrize_active();
+
+  EkfConfig config_;
+  CameraModel camera_;
+  int max_slots_;
+
+  StateVector x_;
+  StateMatrix P_;
+  std::array<bool, hal::kMaxLandmarks> used_{};
+  std::array<SlotInfo, hal::kMaxLandmarks> info_{};
+  int landmark_count_ = 0;
+  int active_dim_ = hal::kPoseDim;
+  std::uint64_t update_counter_ = 0;
+  Eigen::Vector3d last_motion_w_ = Eigen::Vector3d::Zero();
+
+  // Workspaces of the batch update (m observations, 3m rows).
+  std::array<int, hal::kMaxObservationsPerFrame> fuse_obs_{};
+  std::array<Eigen::Matrix<double, 3, 6>, hal::kMaxObservationsPerFrame> Hp_{};
+  std::array<Eigen::Matrix3d, hal::kMaxObservationsPerFrame> Hl_{};
+  std::array<Eigen::Matrix3d, hal::kMaxObservationsPerFrame> R_{};
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxMeasDim, 1> nu_;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxMeasDim, kMaxMeasDim> S_;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxMeasDim, kMaxMeasDim> Sinv_;
+  Eigen::LLT<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxMeasDim, kMaxMeasDim>>
+      llt_;
+  // W = [K | A^T] (n x 6m), V = [A ; K^T] (6m x n): P <- P - W V on the lower triangle.
+  Eigen::MatrixXd W_;
+  Eigen::MatrixXd V_;
+  Eigen::MatrixXd PHt_;
+  Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxStateDim> cross_;
+  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxStateDim> new_rows_;
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxStateDim, 1> dx_;
+
+  UpdateStatus status_;
+  EkfCounters counters_;
+};
+
+}  // namespace cleanslam::slam_core

@@ -1,0 +1,37 @@
+#pragma once
+
+#include "cleanslam/hal/capacities.hpp"
+
+namespace cleanslam::slam_core {
+
+struct EkfConfig {
+  // Eq. 14-15: std. dev. along the ray; the paper's range is 30 m .. 1000 m.
+  double eps_ct_m = 30.0;
+  // Eq. 13: depth assumed at a landmark's first sighting.
+  double assumed_depth_m = 5.0;
+  // Eq. 16: feature tracking and camera calibration errors, pixels.
+  double eps_trk_px = 0.5;
+  double eps_cal_px = 0.5;
+  // Per-observation chi-square gate on the 3-D innovation (3 dof, 99%).
+  double gate_chi2 = 11.34;
+  // Per-observation chi-square gate on the pixel innovation (2 dof, 99%); 0 disables it. The
+  // 3-D gate alone cannot reject an outlier of a landmark whose depth is still unknown: the
+  // landmark's long axis and the measured ray span a plane of large variance that contains the
+  // outlier's offset. In pixels that uncertainty is a segment of the epipolar line instead.
+  double gate_pixel_chi2 = 9.21;
+  // Landmark slots in use at most (the pool holds hal::kMaxLandmarks).
+  int max_landmarks = hal::kMaxLandmarks;
+  // A landmark is not initialized when its ray is within this angle of the last direction of
+  // travel (no parallax will ever reach its depth); 0 disables the check.
+  double min_ray_motion_angle_rad = 0.01;
+  // Travel shorter than this gives no direction of travel for that check.
+  double min_motion_for_direction_m = 0.005;
+  // Landmarks closer than this along the ray are treated as behind the camera.
+  double min_depth_m = 0.05;
+  // Prediction is refused when |pitch| comes this close to +-pi/2 (eq. 4 is singular there).
+  double max_abs_pitch_rad = 1.4;
+  // Smallest variance allowed on the diagonal of P after an update (the PSD guard).
+  double min_variance = 1e-12;
+};
+
+}  // namespace cleanslam::slam_core

@@ -1,0 +1,605 @@
+#include "cleanslam/slam_core/ekf.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+#include "cleanslam/slam_core/camera_frame_measurement.hpp"
+#include "cleanslam/slam_core/prediction_model.hpp"
+
+namespace cleanslam::slam_core {
+
+namespace {
+constexpr int kPose = hal::kPoseDim;
+
+bool finite2(double a, double b) {
+  return std::isfinite(a) && std::isfinite(b);
+}
+}  // namespace
+
+const char* to_string(ObservationResult r) {
+  switch (r) {
+    case ObservationResult::kFused:
+      return "fused";
+    case ObservationResult::kNonFinite:
+      return "non_finite";
+    case ObservationResult::kOutOfImage:
+      return "out_of_image";
+    case ObservationResult::kBehindCamera:
+      return "behind_camera";
+    case ObservationResult::kGate:
+      return "gate";
+    case ObservationResult::kParallelRay:
+      return "parallel_ray";
+    case ObservationResult::kNotPositiveDefinite:
+      return "not_positive_definite";
+    case ObservationResult::kInvalidSlot:
+      return "invalid_slot";
+    case ObservationResult::kOverCapacity:
+      return "over_capacity";
+    case ObservationResult::kCount:
+      break;
+  }
+  return "unknown";
+}
+
+Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
+    : config_(config),
+      camera_(calibration.camera),
+      max_slots_(std::clamp(config.max_landmarks, 0, hal::kMaxLandmarks)) {
+  x_.setZero(kMaxStateDim);
+  P_.setZero(kMaxStateDim, kMaxStateDim);
+  nu_.setZero(kMaxMeasDim);
+  S_.setZero(kMaxMeasDim, kMaxMeasDim);
+  Sinv_.setZero(kMaxMeasDim, kMaxMeasDim);
+  W_.setZero(kMaxStateDim, 2 * kMaxMeasDim);
+  V_.setZero(2 * kMaxMeasDim, kMaxStateDim);
+  PHt_.setZero(kMaxStateDim, kMaxMeasDim);
+  cross_.setZero(6, kMaxStateDim);
+  new_rows_.setZero(3, kMaxStateDim);
+  dx_.setZero(kMaxStateDim);
+  reset(Vector6d::Zero(), Matrix6d::Zero());
+}
+
+void Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
+  x_.setZero();
+  P_.setZero();
+  x_.head<6>() = camera_pose;
+  P_.topLeftCorner<6, 6>() = 0.5 * (P0 + P0.transpose());
+  used_.fill(false);
+  info_.fill(SlotInfo{});
+  landmark_count_ = 0;
+  active_dim_ = kPose;
+  update_counter_ = 0;
+  last_motion_w_.setZero();
+  status_ = UpdateStatus{};
+}
+
+bool Ekf::slot_used(int slot) const {
+  return slot >= 0 && slot < hal::kMaxLandmarks && used_[static_cast<std::size_t>(slot)];
+}
+
+bool Ekf::valid_used_slot(int slot) const {
+  return slot_used(slot);
+}
+
+Eigen::Vector3d Ekf::landmark(int slot) const {
+  if (!slot_used(slot)) {
+    return Eigen::Vector3d::Zero();
+  }
+  return x_.segment<3>(row_of(slot));
+}
+
+Eigen::Matrix3d Ekf::landmark_covariance(int slot) const {
+  if (!slot_used(slot)) {
+    return Eigen::Matrix3d::Zero();
+  }
+  return P_.block<3, 3>(row_of(slot), row_of(slot));
+}
+
+void Ekf::recompute_active_dim() {
+  int highest = -1;
+  for (int i = 0; i < hal::kMaxLandmarks; ++i) {
+    if (used_[static_cast<std::size_t>(i)]) {
+      highest = i;
+    }
+  }
+  active_dim_ = row_of(highest + 1);
+}
+
+PredictStatus Ekf::predict(const OdometryIncrement& u) {
+  PredictStatus status;
+  ++counters_.predictions;
+  const Matrix6d Q = 0.5 * (u.Q + u.Q.transpose());
+  if (!u.dx_c.allFinite() || !u.dpsi_c.allFinite() || !Q.allFinite()) {
+    status.result = PredictResult::kNonFinite;
+  } else if (std::abs(x_(4)) > config_.max_abs_pitch_rad) {
+    status.result = PredictResult::kPitchSingular;
+  } else if ((Q.diagonal().array() < 0.0).any()) {
+    status.result = PredictResult::kNotPositiveDefinite;
+  }
+  if (!status.applied()) {
+    ++counters_.predictions_rejected;
+    return status;
+  }
+  const Vector6d pose = x_.head<6>();
+  Matrix6d F;
+  Matrix6d G;
+  prediction_jacobians(pose, u.dx_c, u.dpsi_c, F, G);
+  last_motion_w_ = G.topLeftCorner<3, 3>() * u.dx_c;
+  x_.head<6>() = predict_pose(pose, u.dx_c, u.dpsi_c);  // eq. 3-4
+  x_(3) = wrap_angle(x_(3));
+  x_(5) = wrap_angle(x_(5));
+
+  const Matrix6d Pxx = P_.topLeftCorner<6, 6>();
+  const Matrix6d Pn = F * Pxx * F.transpose() + G * Q * G.transpose();  // eq. 7
+  P_.topLeftCorner<6, 6>() = 0.5 * (Pn + Pn.transpose());
+  const int nl = active_dim_ - kPose;
+  if (nl > 0) {  // eq. 8
+    cross_.resize(6, nl);
+    cross_.noalias() = F.lazyProduct(P_.block(0, kPose, 6, nl));
+    P_.block(0, kPose, 6, nl) = cross_;
+    P_.block(kPose, 0, nl, 6) = cross_.transpose();
+  }
+  return status;
+}
+
+int Ekf::take_slot() {
+  for (int i = 0; i < max_slots_; ++i) {
+    if (!used_[static_cast<std::size_t>(i)]) {
+      return i;
+    }
+  }
+  int victim = -1;
+  for (int i = 0; i < max_slots_; ++i) {
+    const SlotInfo& s = info_[static_cast<std::size_t>(i)];
+    if (victim < 0) {
+      victim = i;
+      continue;
+    }
+    const SlotInfo& v = info_[static_cast<std::size_t>(victim)];
+    if (s.last_fused < v.last_fused || (s.last_fused == v.last_fused && s.fused < v.fused)) {
+      victim = i;
+    }
+  }
+  if (victim >= 0) {
+    delete_landmark(victim);
+    ++counters_.landmarks_replaced;
+    --counters_.landmarks_deleted;
+  }
+  return victim;
+}
+
+int Ekf::initialize_landmark(double u_px, double v_px) {
+  return initialize_landmark(u_px, v_px, config_.assumed_depth_m, config_.eps_ct_m);
+}
+
+int Ekf::initialize_landmark(double u_px, double v_px, double depth_m, double eps_ct_m) {
+  auto reject = [this](ObservationResult r) {
+    counters_.rejections.add(r);
+    return -1;
+  };
+  if (!finite2(u_px, v_px)) {
+    return reject(ObservationResult::kNonFinite);
+  }
+  Eigen::Vector2d xn;
+  if (!camera_.undistort(u_px, v_px, xn)) {
+    return reject(ObservationResult::kOutOfImage);
+  }
+  if (max_slots_ == 0) {
+    return reject(ObservationResult::kOverCapacity);
+  }
+  const Vector6d pose = x_.head<6>();
+  const Eigen::Vector3d ct = CameraModel::ray(xn);
+  const Eigen::Matrix3d C = rotation_zyx(pose(3), pose(4), pose(5));
+  const double motion = last_motion_w_.norm();
+  if (config_.min_ray_motion_angle_rad > 0.0 && motion > config_.min_motion_for_direction_m) {
+    const double c = std::abs((C * ct).normalized().dot(last_motion_w_ / motion));
+    if (std::acos(std::min(1.0, c)) < config_.min_ray_motion_angle_rad) {
+      return reject(ObservationResult::kParallelRay);
+    }
+  }
+  const double d = depth_m;
+  if (!std::isfinite(d) || !std::isfinite(eps_ct_m) || !(d > config_.min_depth_m)) {
+    return reject(ObservationResult::kNonFinite);
+  }
+  const Eigen::Vector3d vc = point_at_depth(ct, d);  // eq. 13
+  Eigen::Matrix<double, 3, 6> T;
+  const Eigen::Vector3d y = landmark_from_camera_point(pose, vc, &T);  // eq. 39, 41-42
+  const Eigen::Matrix3d Rv = measurement_covariance(
+      ct, eps_ct_m, normal_noise(d, config_.eps_trk_px, config_.eps_cal_px, camera_.focal_px()));
+  Eigen::Matrix3d Py = T * P_.topLeftCorner<6, 6>() * T.transpose() + C * Rv * C.transpose();
+  Py = 0.5 * (Py + Py.transpose()).eval();  // eq. 40
+  if (!y.allFinite() || !Py.allFinite()) {
+    return reject(ObservationResult::kNonFinite);
+  }
+  if (Eigen::LLT<Eigen::Matrix3d>(Py).info() != Eigen::Success) {
+    return reject(ObservationResult::kNotPositiveDefinite);
+  }
+  const int slot = take_slot();
+  if (slot < 0) {
+    return reject(ObservationResult::kOverCapacity);
+  }
+  const int lm = row_of(slot);
+  active_dim_ = std::max(active_dim_, lm + 3);
+  const int n = active_dim_;
+  new_rows_.resize(3, n);
+  new_rows_.noalias() = T.lazyProduct(P_.block(0, 0, 6, n));  // eq. 44-45
+  P_.block(lm, 0, 3, n) = new_rows_;
+  P_.block(0, lm, n, 3) = new_rows_.transpose();
+  P_.block<3, 3>(lm, lm) = Py;  // eq. 43
+  x_.segment<3>(lm) = y;
+  used_[static_cast<std::size_t>(slot)] = true;
+  info_[static_cast<std::size_t>(slot)] = SlotInfo{update_counter_, 0};
+  ++landmark_count_;
+  ++counters_.landmarks_initialized;
+  return slot;
+}
+
+void Ekf::delete_landmark(int slot) {
+  if (!slot_used(slot)) {
+    return;
+  }
+  const int lm = row_of(slot);
+  const int n = active_dim_;
+  P_.block(lm, 0, 3, n).setZero();
+  P_.block(0, lm, n, 3).setZero();
+  x_.segment<3>(lm).setZero();
+  used_[static_cast<std::size_t>(slot)] = false;
+  info_[static_cast<std::size_t>(slot)] = SlotInfo{};
+  --landmark_count_;
+  ++counters_.landmarks_deleted;
+  recompute_active_dim();
+}
+
+ObservationResult Ekf::measure(const Observation& o, Eigen::Vector3d& z, Eigen::Matrix3d& R,
+                               Eigen::Vector3d& h, Eigen::Matrix<double, 3, 6>& Hp,
+                               Eigen::Matrix3d& Hl) const {
+  if (!valid_used_slot(o.slot)) {
+    return ObservationResult::kInvalidSlot;
+  }
+  if (!finite2(o.u_px, o.v_px)) {
+    return ObservationResult::kNonFinite;
+  }
+  Eigen::Vector2d n;
+  if (!camera_.undistort(o.u_px, o.v_px, n)) {
+    return ObservationResult::kOutOfImage;
+  }
+  const Eigen::Vector3d ct = CameraModel::ray(n);
+  const Eigen::Vector3d c_hat = ct.normalized();
+  const Vector6d pose = x_.head<6>();
+  const Eigen::Vector3d y = x_.segment<3>(row_of(o.slot));
+  h = predict_camera_point(pose, y);  // eq. 21
+  const double depth = h.dot(c_hat);  // the predicted depth along the measured ray
+  if (!(h.x() > config_.min_depth_m) || !(depth > config_.min_depth_m)) {
+    return ObservationResult::kBehindCamera;
+  }
+  z = point_at_depth(ct, depth);  // eq. 13
+  R = measurement_covariance(
+      ct, config_.eps_ct_m,
+      normal_noise(depth, config_.eps_trk_px, config_.eps_cal_px, camera_.focal_px()));
+  measurement_jacobian(pose, y, Hp, Hl);  // eq. 22-24
+  if (!z.allFinite() || !R.allFinite() || !Hp.allFinite()) {
+    return ObservationResult::kNonFinite;
+  }
+  return ObservationResult::kFused;
+}
+
+const UpdateStatus& Ekf::update(const Observation* obs, int count) {
+  status_ = UpdateStatus{};
+  status_.received = count;
+  ++update_counter_;
+  if (obs == nullptr || count < 0) {
+    count = 0;
+  }
+  int m = 0;
+  for (int i = 0; i < count; ++i) {
+    if (i >= hal::kMaxObservationsPerFrame) {
+      counters_.rejections.add(ObservationResult::kOverCapacity);
+      ++status_.rejected;
+      continue;
+    }
+    const Observation& o = obs[i];
+    ObservationStatus& st = status_.observations[static_cast<std::size_t>(status_.count++)];
+    st.slot = o.slot;
+    ObservationResult r = ObservationResult::kFused;
+    for (int j = 0; j < m; ++j) {
+      if (status_.observations[static_cast<std::size_t>(fuse_obs_[static_cast<std::size_t>(j)])]
+              .slot == o.slot) {
+        r = ObservationResult::kInvalidSlot;
+      }
+    }
+    Eigen::Vector3d z;
+    Eigen::Vector3d h;
+    Eigen::Matrix3d R;
+    Eigen::Matrix<double, 3, 6> Hp;
+    Eigen::Matrix3d Hl;
+    if (r == ObservationResult::kFused) {
+      r = measure(o, z, R, h, Hp, Hl);
+    }
+    if (r == ObservationResult::kFused) {
+      const int lm = row_of(o.slot);
+      const Eigen::Matrix<double, 3, 3> HpPxl = Hp * P_.block<6, 3>(0, lm) * Hl.transpose();
+      Eigen::Matrix3d Sj = Hp * P_.topLeftCorner<6, 6>() * Hp.transpose() + HpPxl +
+                           HpPxl.transpose() + Hl * P_.block<3, 3>(lm, lm) * Hl.transpose() + R;
+      Sj = 0.5 * (Sj + Sj.transpose()).eval();
+      const Eigen::LLT<Eigen::Matrix3d> llt(Sj);
+      st.innovation = z - h;
+      st.innovation_covariance = Sj;
+      if (llt.info() != Eigen::Success) {
+        r = ObservationResult::kNotPositiveDefinite;
+      } else {
+        st.test_ratio = st.innovation.dot(llt.solve(st.innovation)) / config_.gate_chi2;
+        r = pixel_gate(o, st);
+        if (r == ObservationResult::kFused && !(st.test_ratio <= 1.0)) {
+          r = ObservationResult::kGate;
+        }
+      }
+    }
+    st.result = r;
+    if (r != ObservationResult::kFused) {
+      counters_.rejections.add(r);
+      ++status_.rejected;
+      continue;
+    }
+    const auto mi = static_cast<std::size_t>(m);
+    fuse_obs_[mi] = status_.count - 1;
+    Hp_[mi] = Hp;
+    Hl_[mi] = Hl;
+    R_[mi] = R;
+    nu_.segment<3>(3 * m) = st.innovation;
+    ++m;
+  }
+  if (m > 0) {
+    const ObservationResult r = fuse(m);
+    for (int j = 0; j < m; ++j) {
+      ObservationStatus& st =
+          status_.observations[static_cast<std::size_t>(fuse_obs_[static_cast<std::size_t>(j)])];
+      st.result = r;
+      if (r == ObservationResult::kFused) {
+        SlotInfo& info = info_[static_cast<std::size_t>(st.slot)];
+        info.last_fused = update_counter_;
+        ++info.fused;
+        ++status_.fused;
+      } else {
+        counters_.rejections.add(r);
+        ++status_.rejected;
+      }
+    }
+    status_.applied = r == ObservationResult::kFused;
+    if (status_.applied) {
+      ++counters_.updates_applied;
+    }
+  }
+  return status_;
+}
+
+ObservationResult Ekf::pixel_gate(const Observation& o, ObservationStatus& st) const {
+  if (!(config_.gate_pixel_chi2 > 0.0)) {
+    return ObservationResult::kFused;
+  }
+  PixelPrediction p;
+  if (!predict_pixel(o.slot, p)) {
+    return ObservationResult::kBehindCamera;
+  }
+  st.pixel_innovation = Eigen::Vector2d(o.u_px, o.v_px) - p.uv;
+  const Eigen::LLT<Eigen::Matrix2d> llt(p.S);
+  if (llt.info() != Eigen::Success) {
+    return ObservationResult::kNotPositiveDefinite;
+  }
+  st.pixel_test_ratio =
+      st.pixel_innovation.dot(llt.solve(st.pixel_innovation)) / config_.gate_pixel_chi2;
+  return st.pixel_test_ratio <= 1.0 ? ObservationResult::kFused : ObservationResult::kGate;
+}
+
+ObservationResult Ekf::fuse(int m) {
+  const int n = active_dim_;
+  const int k = 3 * m;
+  int lms[hal::kMaxObservationsPerFrame];
+  for (int j = 0; j < m; ++j) {
+    const auto& st =
+        status_.observations[static_cast<std::size_t>(fuse_obs_[static_cast<std::size_t>(j)])];
+    lms[j] = row_of(st.slot);
+  }
+  // PHt = P H^T, H sparse: pose columns and one landmark's three columns per observation.
+  auto PHt = PHt_.topLeftCorner(n, k);
+  for (int j = 0; j < m; ++j) {
+    const auto js = static_cast<std::size_t>(j);
+    PHt.middleCols<3>(3 * j).noalias() = P_.block(0, 0, n, 6).lazyProduct(Hp_[js].transpose());
+    PHt.middleCols<3>(3 * j).noalias() +=
+        P_.block(0, lms[j], n, 3).lazyProduct(Hl_[js].transpose());
+  }
+  S_.resize(k, k);
+  for (int i = 0; i < m; ++i) {
+    const auto is = static_cast<std::size_t>(i);
+    for (int j = 0; j < m; ++j) {
+      S_.block<3, 3>(3 * i, 3 * j) =
+          Hp_[is] * PHt.block<6, 3>(0, 3 * j) + Hl_[is] * PHt.block<3, 3>(lms[i], 3 * j);
+    }
+    S_.block<3, 3>(3 * i, 3 * i) += R_[is];
+  }
+  for (int i = 0; i < k; ++i) {
+    for (int j = i + 1; j < k; ++j) {
+      const double a = 0.5 * (S_(i, j) + S_(j, i));
+      S_(i, j) = a;
+      S_(j, i) = a;
+    }
+  }
+  llt_.compute(S_);
+  if (llt_.info() != Eigen::Success) {
+    return ObservationResult::kNotPositiveDefinite;
+  }
+  Sinv_.setIdentity(k, k);
+  llt_.solveInPlace(Sinv_);
+  // W = [K | A^T] with K = PHt S^-1 (eq. 27) and A^T = PHt - K S / 2.
+  auto W = W_.topLeftCorner(n, 2 * k);
+  auto V = V_.topLeftCorner(2 * k, n);
+  W.leftCols(k).noalias() = PHt.lazyProduct(Sinv_);
+  W.rightCols(k) = PHt;
+  W.rightCols(k).noalias() -= 0.5 * W.leftCols(k).lazyProduct(S_);
+  V.topRows(k) = W.rightCols(k).transpose();
+  V.bottomRows(k) = W.leftCols(k).transpose();
+  // PSD guard: the posterior diagonal of the used rows must stay positive.
+  for (int i = 0; i < n; ++i) {
+    if (i >= kPose && !used_[static_cast<std::size_t>((i - kPose) / 3)]) {
+      continue;
+    }
+    const double d = P_(i, i) - W.row(i).dot(V.col(i));
+    if (!(d > config_.min_variance) || !std::isfinite(d)) {
+      return ObservationResult::kNotPositiveDefinite;
+    }
+  }
+  dx_.resize(n);
+  dx_.noalias() = W.leftCols(k) * nu_.head(k);  // eq. 25
+  if (!dx_.allFinite()) {
+    return ObservationResult::kNonFinite;
+  }
+  // Joseph form (eq. 26 made symmetric): P - K A - A^T K^T, lower triangle, then mirrored.
+  for (int j = 0; j < n; ++j) {
+    P_.col(j).segment(j, n - j).noalias() -= W.bottomRows(n - j) * V.col(j);
+  }
+  symmetrize_active();
+  x_.head(n) += dx_;
+  x_(3) = wrap_angle(x_(3));
+  x_(5) = wrap_angle(x_(5));
+  dx_.resize(kMaxStateDim);
+  return ObservationResult::kFused;
+}
+
+void Ekf::symmetrize_active() {
+  const int n = active_dim_;
+  for (int j = 0; j < n; ++j) {
+    P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
+  }
+}
+
+bool Ekf::pixel_jacobian(int slot, Eigen::Vector2d& uv, Eigen::Matrix<double, 2, 6>& Jp,
+                         Eigen::Matrix<double, 2, 3>& Jl, double& depth) const {
+  const Vector6d pose = x_.head<6>();
+  const Eigen::Vector3d y = x_.segment<3>(row_of(slot));
+  const Eigen::Vector3d h = predict_camera_point(pose, y);
+  depth = h.x();
+  Eigen::Matrix<double, 3, 6> Hp;
+  Eigen::Matrix3d Hl;
+  measurement_jacobian(pose, y, Hp, Hl);
+  Eigen::Matrix<double, 2, 3> J;
+  if (!(depth > config_.min_depth_m) || !camera_.project(h, uv, &J)) {
+    return false;
+  }
+  Jp = J * Hp;
+  Jl = J * Hl;
+  return true;
+}
+
+bool Ekf::predict_pixel(int slot, PixelPrediction& out) const {
+  out = PixelPrediction{};
+  if (!slot_used(slot)) {
+    return false;
+  }
+  Eigen::Matrix<double, 2, 6> Jp;
+  Eigen::Matrix<double, 2, 3> Jl;
+  if (!pixel_jacobian(slot, out.uv, Jp, Jl, out.depth_m)) {
+    return false;
+  }
+  const int lm = row_of(slot);
+  const Eigen::Matrix2d cross = Jp * P_.block<6, 3>(0, lm) * Jl.transpose();
+  const double r =
+      config_.eps_trk_px * config_.eps_trk_px + config_.eps_cal_px * config_.eps_cal_px;
+  out.S = Jp * P_.topLeftCorner<6, 6>() * Jp.transpose() + cross + cross.transpose() +
+          Jl * P_.block<3, 3>(lm, lm) * Jl.transpose() + r * Eigen::Matrix2d::Identity();
+  out.in_front = true;
+  return true;
+}
+
+int Ekf::joint_pixel_innovation(const Observation* obs, int count, double* nu, double* S) const {
+  if (count < 0 || count > hal::kMaxObservationsPerFrame) {
+    return -1;
+  }
+  if (count == 0) {
+    return 0;
+  }
+  if (obs == nullptr || nu == nullptr || S == nullptr) {
+    return -1;
+  }
+  std::array<Eigen::Matrix<double, 2, 6>, hal::kMaxObservationsPerFrame> Jp;
+  std::array<Eigen::Matrix<double, 2, 3>, hal::kMaxObservationsPerFrame> Jl;
+  std::array<int, hal::kMaxObservationsPerFrame> lm{};
+  for (int i = 0; i < count; ++i) {
+    const auto is = static_cast<std::size_t>(i);
+    const Observation& o = obs[i];
+    Eigen::Vector2d uv;
+    double depth = 0.0;
+    if (!slot_used(o.slot) || !finite2(o.u_px, o.v_px) ||
+        !pixel_jacobian(o.slot, uv, Jp[is], Jl[is], depth)) {
+      return -1;
+    }
+    lm[is] = row_of(o.slot);
+    nu[2 * i] = o.u_px - uv.x();
+    nu[2 * i + 1] = o.v_px - uv.y();
+  }
+  const int dim = 2 * count;
+  Eigen::Map<Eigen::MatrixXd> Sm(S, dim, dim);
+  const double r =
+      config_.eps_trk_px * config_.eps_trk_px + config_.eps_cal_px * config_.eps_cal_px;
+  const Matrix6d Pxx = P_.topLeftCorner<6, 6>();
+  for (int i = 0; i < count; ++i) {
+    const auto is = static_cast<std::size_t>(i);
+    for (int j = i; j < count; ++j) {
+      const auto js = static_cast<std::size_t>(j);
+      Sm.block<2, 2>(2 * i, 2 * j) = Jp[is] * Pxx * Jp[js].transpose() +
+                                     Jp[is] * P_.block<6, 3>(0, lm[js]) * Jl[js].transpose() +
+                                     Jl[is] * P_.block<3, 6>(lm[is], 0) * Jp[js].transpose() +
+                                     Jl[is] * P_.block<3, 3>(lm[is], lm[js]) * Jl[js].transpose();
+    }
+    Sm.block<2, 2>(2 * i, 2 * i) += r * Eigen::Matrix2d::Identity();
+    Sm(2 * i + 1, 2 * i) = Sm(2 * i, 2 * i + 1) =
+        0.5 * (Sm(2 * i + 1, 2 * i) + Sm(2 * i, 2 * i + 1));
+  }
+  for (int c = 0; c < dim; ++c) {
+    for (int r2 = c + 1; r2 < dim; ++r2) {
+      if (r2 / 2 != c / 2) {
+        Sm(r2, c) = Sm(c, r2);
+      }
+    }
+  }
+  return count;
+}
+
+hal::PoseEstimate Ekf::body_pose_estimate(hal::TimeNs t_ns) const {
+  hal::PoseEstimate out;
+  out.t_ns = t_ns;
+  const Vector6d cam = x_.head<6>();
+  const Vector6d body = body_pose_from_camera_pose(cam, camera_);
+  out.position_m = {body(0), body(1), body(2)};
+  const Eigen::Quaterniond q = quaternion_from_zyx(body(3), body(4), body(5));
+  out.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};
+  // d body / d camera pose by central differences (angles wrapped).
+  Matrix6d J;
+  constexpr double kStep = 1e-6;
+  for (int c = 0; c < 6; ++c) {
+    Vector6d a = cam;
+    Vector6d b = cam;
+    a(c) += kStep;
+    b(c) -= kStep;
+    Vector6d d = body_pose_from_camera_pose(a, camera_) - body_pose_from_camera_pose(b, camera_);
+    for (int r = 3; r < 6; ++r) {
+      d(r) = wrap_angle(d(r));
+    }
+    J.col(c) = d / (2.0 * kStep);
+  }
+  const Matrix6d Pb = J * P_.topLeftCorner<6, 6>() * J.transpose();
+  for (int r = 0; r < 6; ++r) {
+    for (int c = 0; c < 6; ++c) {
+      out.covariance[static_cast<std::size_t>(6 * r + c)] = 0.5 * (Pb(r, c) + Pb(c, r));
+    }
+  }
+  out.landmarks_in_map = static_cast<std::uint16_t>(landmark_count_);
+  out.landmarks_in_view = static_cast<std::uint16_t>(status_.fused);
+  if (landmark_count_ < 3) {
+    out.health |= hal::kFewLandmarks;
+  }
+  return out;
+}
+
+}  // namespace cleanslam::slam_core

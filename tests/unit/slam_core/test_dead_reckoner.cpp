@@ -1,0 +1,280 @@
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
+
+#include "cleanslam/slam_core/dead_reckoner.hpp"
+#include "cleanslam/slam_core/geometry.hpp"
+
+namespace cs = cleanslam::slam_core;
+namespace hal = cleanslam::hal;
+
+namespace {
+
+constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
+
+// Drives a differential robot with body speed v(t) and yaw rate w(t): exact wheel ticks at 20 Hz
+// (from an arbitrary start count) and a gyro at 100 Hz with a constant bias, fed in time order.
+class Drive {
+ public:
+  Drive(cs::DeadReckoner& dr, const hal::Calibration& cal) : dr_(dr), cal_(cal) {}
+  std::function<double(double)> v = [](double) { return 0.0; };
+  std::function<double(double)> w = [](double) { return 0.0; };
+  double gyro_bias = 0.0;
+  double gyro_noise = 0.0;
+  bool gyro_on = true;
+  std::int32_t start_ticks = 0;
+
+  // Advances to t_end (ms resolution integration of the true motion).
+  void run_until(hal::TimeNs t_end) {
+    for (; t_ <= t_end; t_ += kMs) {
+      const double ts = hal::to_seconds(t_);
+      if (t_ > 0) {
+        const double dt = 1e-3;
+        const double vv = v(ts);
+        const double ww = w(ts);
+        left_ += (vv - 0.5 * cal_.wheels.wheel_base * ww) * dt;
+        right_ += (vv + 0.5 * cal_.wheels.wheel_base * ww) * dt;
+        const double mid = yaw + 0.5 * ww * dt;
+        x += vv * dt * std::cos(mid);
+        y += vv * dt * std::sin(mid);
+        yaw += ww * dt;
+      }
+      if (gyro_on && t_ % (10 * kMs) == 0) {
+        hal::GyroSample g;
+        g.t_ns = t_;
+        g.wz_rad_s = w(ts) + gyro_bias + gyro_noise * noise_(rng_);
+        dr_.add_gyro(g);
+      }
+      if (t_ % (50 * kMs) == 0) {
+        hal::EncoderSample e;
+        e.t_ns = t_;
+        e.left_ticks = ticks(left_ * cal_.wheels.ticks_per_meter_left);
+        e.right_ticks = ticks(right_ * cal_.wheels.ticks_per_meter_right);
+        dr_.add_encoder(e);
+      }
+    }
+  }
+  double x = 0.0;
+  double y = 0.0;
+  double yaw = 0.0;
+
+ private:
+  std::int32_t ticks(double count) const {
+    const auto c = static_cast<std::int64_t>(std::llround(count));
+    return static_cast<std::int32_t>(
+        static_cast<std::uint32_t>(static_cast<std::int64_t>(start_ticks) + c));
+  }
+  cs::DeadReckoner& dr_;
+  hal::Calibration cal_;
+  hal::TimeNs t_ = 0;
+  double left_ = 0.0;
+  double right_ = 0.0;
+  std::mt19937 rng_{7};
+  std::normal_distribution<double> noise_{0.0, 1.0};
+};
+
+}  // namespace
+
+TEST(DeadReckoner, StraightLineIncrementsSumToTravelledDistance) {
+  const hal::Calibration cal;
+  cs::DeadReckoner dr(cal, cs::DeadReckoningConfig{});
+  Drive drive(dr, cal);
+  drive.v = [](double) { return 0.2; };
+  drive.run_until(0);
+  dr.take_increment(0);
+  double total = 0.0;
+  // Frames at irregular times between encoder samples.
+  for (hal::TimeNs t : {1013 * kMs, 1988 * kMs, 3041 * kMs, 4000 * kMs, 5027 * kMs}) {
+    drive.run_until(t);
+    const cs::OdometryIncrement u = dr.take_increment(t);
+    EXPECT_TRUE(u.gyro_used);
+    EXPECT_NEAR(u.dpsi_c.z(), 0.0, 1e-9);
+    EXPECT_NEAR(u.dx_c.y(), 0.0, 1e-9);
+    total += u.dx_c.x();
+  }
+  drive.run_until(6000 * kMs);
+  total += dr.take_increment(6000 * kMs).dx_c.x();
+  EXPECT_NEAR(total, 0.2 * 6.0, 1e-3);
+  EXPECT_NEAR(dr.x(), 1.2, 1e-3);
+}
+
+TEST(DeadReckoner, InterpolatesToFrameTime) {
+  const hal::Calibration cal;
+  cs::DeadReckoner dr(cal, cs::DeadReckoningConfig{});
+  Drive drive(dr, cal);
+  drive.v = [](double) { return 0.3; };
+  drive.run_until(1000 * kMs);
+  dr.take_increment(1000 * kMs);
+  drive.run_until(1530 * kMs);  // last encoder sample at 1.5 s
+  const cs::OdometryIncrement u = dr.take_increment(1530 * kMs);
+  EXPECT_NEAR(u.dx_c.x(), 0.3 * 0.53, 1e-3);
+  EXPECT_NEAR(u.dt_s, 0.53, 1e-12);
+  drive.run_until(2000 * kMs);
+  EXPECT_NEAR(dr.take_increment(2000 * kMs).dx_c.x(), 0.3 * 0.47, 1e-3);
+}
+
+TEST(DeadReckoner, ArcMatchesTrueMotionThroughTheExtrinsic) {
+  const hal::Calibration cal;  // camera 0.10 m ahead of the wheel axis, 0.08 m up
+  cs::DeadReckoner dr(cal, cs::DeadReckoningConfig{});
+  Drive drive(dr, cal);
+  drive.v = [](double) { return 0.2; };
+  drive.w = [](double) { return 0.4; };
+  drive.run_until(0);
+  dr.take_increment(0);
+  drive.run_until(2000 * kMs);
+  const cs::OdometryIncrement u = dr.take_increment(2000 * kMs);
+  // Camera displacement in the first camera frame: body displacement plus the lever arm.
+  const double yaw = 0.8;
+  const Eigen::Vector3d body(drive.x, drive.y, 0.0);
+  const Eigen::Vector3d lever(0.10, 0.0, 0.08);
+  const Eigen::Vector3d expected = body + cs::rotation_zyx(0, 0, yaw) * lever - lever;
+  EXPECT_LT((u.dx_c - expected).norm(), 2e-3);
+  EXPECT_NEAR(u.dpsi_c.z(), yaw, 1e-3);
+  EXPECT_NEAR(dr.yaw(), yaw, 1e-3);
+  EXPECT_NEAR(dr.x(), drive.x, 2e-3);
+  EXPECT_NEAR(dr.y(), drive.y, 2e-3);
+  EXPECT_NEAR(u.distance_m, 0.4, 1e-3);
+  // Q: symmetric positive semi-definite, with yaw variance from the gyro model.
+  EXPECT_LT((u.Q - u.Q.transpose()).norm(), 1e-15);
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<cs::Matrix6d>(u.Q).eigenvalues().minCoeff(), -1e-15);
+  const double nd = cal.gyro.noise_density;
+  const double bi = cal.gyro.bias_instability;
+  EXPECT_NEAR(u.Q(5, 5), nd * nd * 2.0 + bi * bi * 4.0, 1e-9);
+  EXPECT_GT(u.Q(2, 2), 0.0);  // z uncertainty grows with distance
+  EXPECT_GT(u.Q(3, 3), 0.0);
+}
+
+TEST(DeadReckoner, StraightLineDistanceVarianceIsScaleError) {
+  const hal::Calibration cal;
+  cs::DeadReckoningConfig config;
+  config.z_noise_m_per_sqrt_m = 0.0;
+  config.roll_pitch_noise_rad_per_sqrt_m = 0.0;
+  cs::DeadReckoner dr(cal, config);
+  Drive drive(dr, cal);
+  drive.v = [](double) { return 0.25; };
+  drive.run_until(0);
+  dr.take_increment(0);
+  drive.run_until(2000 * kMs);
+  const cs::OdometryIncrement u = dr.take_increment(2000 * kMs);
+  const double k = cal.wheels.distance_noise;
+  EXPECT_NEAR(u.Q(0, 0), k * k * 0.5 * 0.5, 1e-9);
+  // Heading errors show up laterally: y variance grows with distance.
+  EXPECT_GT(u.Q(1, 1), 0.0);
+}
+
+TEST(DeadReckoner, UsesEncodersWithInflatedNoiseWhenGyroIsSilent) {
+  const hal::Calibration cal;
+  cs::DeadReckoner with_gyro(cal, cs::DeadReckoningConfig{});
+  cs::DeadReckoner without(cal, cs::DeadReckoningConfig{});
+  Drive a(with_gyro, cal);
+  Drive b(without, cal);
+  for (Drive* d : {&a, &b}) {
+    d->v = [](double) { return 0.2; };
+    d->w = [](double) { return 0.3; };
+  }
+  b.gyro_on = false;
+  a.run_until(0);
+  b.run_until(0);
+  with_gyro.take_increment(0);
+  without.take_increment(0);
+  a.run_until(1000 * kMs);
+  b.run_until(1000 * kMs);
+  const cs::OdometryIncrement ua = with_gyro.take_increment(1000 * kMs);
+  const cs::OdometryIncrement ub = without.take_increment(1000 * kMs);
+  EXPECT_TRUE(ua.gyro_used);
+  EXPECT_FALSE(ub.gyro_used);
+  EXPECT_NEAR(ub.dpsi_c.z(), 0.3, 2e-3);
+  EXPECT_GT(ub.Q(5, 5), 100.0 * ua.Q(5, 5));
+  EXPECT_GT(without.counters().steps_without_gyro, 0U);
+  EXPECT_TRUE(without.gyro_silent(1000 * kMs));
+}
+
+TEST(DeadReckoner, HandlesTickWrapAround) {
+  const hal::Calibration cal;
+  cs::DeadReckoner dr(cal, cs::DeadReckoningConfig{});
+  Drive drive(dr, cal);
+  drive.start_ticks = std::numeric_limits<std::int32_t>::max() - 1000;
+  drive.v = [](double) { return 0.2; };  // 800 ticks/s: wraps after 1.25 s
+  drive.run_until(0);
+  dr.take_increment(0);
+  drive.run_until(3000 * kMs);
+  EXPECT_NEAR(dr.take_increment(3000 * kMs).dx_c.x(), 0.6, 1e-3);
+  EXPECT_EQ(dr.counters().encoder_implausible, 0U);
+}
+
+TEST(DeadReckoner, RejectsBadSamplesByReason) {
+  const hal::Calibration cal;
+  cs::DeadReckoner dr(cal, cs::DeadReckoningConfig{});
+  hal::GyroSample g;
+  g.t_ns = 100 * kMs;
+  EXPECT_TRUE(dr.add_gyro(g));
+  EXPECT_FALSE(dr.add_gyro(g));  // duplicate
+  g.t_ns = 50 * kMs;
+  EXPECT_FALSE(dr.add_gyro(g));  // out of order
+  g.t_ns = 110 * kMs;
+  g.wz_rad_s = std::nan("");
+  EXPECT_FALSE(dr.add_gyro(g));
+  g.wz_rad_s = 1e3;
+  EXPECT_FALSE(dr.add_gyro(g));
+  g.wz_rad_s = 0.0;
+  g.has_xy = true;
+  g.wx_rad_s = INFINITY;
+  EXPECT_FALSE(dr.add_gyro(g));
+  const cs::DeadReckonerCounters& c = dr.counters();
+  EXPECT_EQ(c.gyro_accepted, 1U);
+  EXPECT_EQ(c.gyro_duplicate, 1U);
+  EXPECT_EQ(c.gyro_out_of_order, 1U);
+  EXPECT_EQ(c.gyro_non_finite, 2U);
+  EXPECT_EQ(c.gyro_implausible, 1U);
+
+  hal::EncoderSample e;
+  e.t_ns = 100 * kMs;
+  EXPECT_TRUE(dr.add_encoder(e));
+  EXPECT_FALSE(dr.add_encoder(e));
+  e.t_ns = 90 * kMs;
+  EXPECT_FALSE(dr.add_encoder(e));
+  e.t_ns = 150 * kMs;
+  e.left_ticks = 100000;  // 25 m in 50 ms
+  e.right_ticks = 100000;
+  EXPECT_FALSE(dr.add_encoder(e));
+  e.t_ns = 200 * kMs;
+  e.left_ticks = 100040;  // 1 cm in 50 ms, counted from the re-anchored sample
+  e.right_ticks = 100040;
+  EXPECT_TRUE(dr.add_encoder(e));
+  EXPECT_EQ(c.encoder_duplicate, 1U);
+  EXPECT_EQ(c.encoder_out_of_order, 1U);
+  EXPECT_EQ(c.encoder_implausible, 1U);
+  EXPECT_NEAR(dr.x(), 0.01, 1e-9);
+  const cs::OdometryIncrement u = dr.take_increment(200 * kMs);
+  EXPECT_TRUE(u.dx_c.allFinite());
+  EXPECT_TRUE(u.Q.allFinite());
+  EXPECT_EQ(dr.take_increment(100 * kMs).distance_m, 0.0);
+  EXPECT_EQ(c.increments_out_of_order, 1U);
+}
+
+TEST(DeadReckoner, DetectsStandingStillAndEstimatesBias) {
+  const hal::Calibration cal;
+  cs::DeadReckoner dr(cal, cs::DeadReckoningConfig{});
+  Drive drive(dr, cal);
+  drive.gyro_bias = 0.004;
+  drive.gyro_noise = 0.002;
+  drive.v = [](double t) { return t > 5.0 && t < 6.0 ? 0.2 : 0.0; };
+  drive.run_until(300 * kMs);
+  EXPECT_FALSE(dr.standing_still());  // not yet a full window
+  drive.run_until(4000 * kMs);
+  EXPECT_TRUE(dr.standing_still());
+  EXPECT_NEAR(dr.gyro_bias(), 0.004, 5e-4);
+  drive.run_until(5500 * kMs);
+  EXPECT_FALSE(dr.standing_still());
+  drive.run_until(7000 * kMs);
+  EXPECT_TRUE(dr.standing_still());
+  // With the bias removed, heading barely drifts over the still period.
+  dr.take_increment(7000 * kMs);
+  drive.run_until(9000 * kMs);
+  EXPECT_LT(std::abs(dr.take_increment(9000 * kMs).dpsi_c.z()), 2e-3);
+}
