@@ -1,0 +1,96 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include <Eigen/Geometry>
+
+#include "cleanslam/slam_core/ekf.hpp"
+#include "cleanslam/slam_core/models/comparison_scenario.hpp"
+#include "cleanslam/slam_core/models/proposed_model.hpp"
+
+// The paper's model through the real Ekf, with the pose known exactly (Sections 4.1 and 4.3).
+namespace cleanslam::slam_core::models {
+namespace {
+
+std::unique_ptr<Ekf> make_ekf(const ProposedParams& params) {
+  return std::make_unique<Ekf>(pinhole_calibration(params.camera), proposed_config(params));
+}
+
+std::array<Eigen::Vector3d, kFig8Landmarks> fig8_landmarks() {
+  std::array<Eigen::Vector3d, kFig8Landmarks> landmarks{};
+  const auto directions = fig8_directions(2012);
+  for (std::size_t i = 0; i < kFig8Landmarks; ++i) {
+    landmarks[i] = landmark_w(KnownPose{}, directions[i], 10.0);
+  }
+  return landmarks;
+}
+
+class ProposedFig10 : public ::testing::TestWithParam<Motion> {};
+
+TEST_P(ProposedFig10, ErrorStaysBelowATenthOfAMillimetreOverTheSweep) {
+  const ProposedParams params{Pinhole{}, 1000.0, 0.005, 10.0, 1e12};
+  const auto ekf = make_ekf(params);
+  for (int cm = 500; cm <= 1500; cm += 100) {
+    const ComparisonSetup s = fig10_setup(GetParam(), cm / 100.0);
+    ProposedModel model(*ekf);
+    const OneStepResult r = one_step(model, Pinhole{}, s.first, s.second, s.landmark);
+    ASSERT_EQ(r.status, ModelStatus::kOk) << "range " << cm << " cm";
+    EXPECT_LT(r.error, 1e-4) << "range " << cm << " cm";  // 0.01 cm
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Motions, ProposedFig10,
+                         ::testing::Values(Motion::kForward, Motion::kLateral));
+
+TEST(ProposedModel, RejectsBadInputAndRotations) {
+  const ProposedParams params{Pinhole{}, 1000.0, 0.005, 10.0, 1e12};
+  const auto ekf = make_ekf(params);
+  ProposedModel model(*ekf);
+  const ComparisonSetup s = fig10_setup(Motion::kForward, 8.0);
+  Eigen::Vector2d pixel;
+  ASSERT_TRUE(observe(Pinhole{}, s.first, s.landmark, pixel));
+  EXPECT_EQ(model.update(s.second, pixel), ModelStatus::kNotInitialized);
+  ASSERT_EQ(model.initialize(s.first, pixel), ModelStatus::kOk);
+  EXPECT_NEAR((model.position_w() - s.first.position_w).norm(), 10.0, 1e-9);
+  EXPECT_EQ(model.update(s.second, {std::numeric_limits<double>::quiet_NaN(), 1.0}),
+            ModelStatus::kNonFiniteInput);
+  KnownPose rotated = s.second;
+  rotated.C_wc = Eigen::Matrix3d(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()));
+  EXPECT_EQ(model.update(rotated, pixel), ModelStatus::kUnsupportedMotion);
+  EXPECT_EQ(model.rejections().not_initialized, 1U);
+  EXPECT_EQ(model.rejections().non_finite_input, 1U);
+  EXPECT_EQ(model.rejections().unsupported_motion, 1U);
+}
+
+TEST(ProposedFig8, ZeroErrorAtZeroDepthDifference) {
+  const KnownPose first;
+  const KnownPose second = moved_pose(first, Motion::kForward, 0.15);
+  for (const double ect : {2.0, 10.0, 1000.0}) {
+    const auto ekf = make_ekf({Pinhole{}, ect, 0.005, 10.0, 1e12});
+    const BatchResult r = proposed_one_step_batch(*ekf, Pinhole{}, first, second, fig8_landmarks());
+    EXPECT_EQ(r.fused, static_cast<int>(kFig8Landmarks));
+    EXPECT_LT(r.rms, 1e-9) << "eps_ct " << ect << " m";
+  }
+}
+
+TEST(ProposedFig8, ErrorFallsAsEpsCtGrows) {
+  const KnownPose first;
+  const KnownPose second = moved_pose(first, Motion::kForward, 0.15);
+  for (const double diff : {10.0, 20.0, 30.0}) {
+    double previous = std::numeric_limits<double>::infinity();
+    for (const double ect : {2.0, 10.0, 30.0, 100.0, 1000.0}) {
+      const auto ekf = make_ekf({Pinhole{}, ect, 0.005, 10.0 + diff, 1e12});
+      const BatchResult r =
+          proposed_one_step_batch(*ekf, Pinhole{}, first, second, fig8_landmarks());
+      ASSERT_EQ(r.fused, static_cast<int>(kFig8Landmarks));
+      EXPECT_LT(r.rms, previous) << "eps_ct " << ect << " m, depth difference " << diff << " m";
+      previous = r.rms;
+    }
+    EXPECT_LT(previous, 0.01) << "depth difference " << diff << " m";
+  }
+}
+
+}  // namespace
+}  // namespace cleanslam::slam_core::models

@@ -1,0 +1,21 @@
+cmake_policy(SET CMP0007 NEW)
+# cmake -DEXE=... [-DEMULATOR=...] -DARGS=a;b;c -DEXPECT_EXIT=N [-DEXPECT_HEADER=...]
+#       [-DEXPECT_ROWS=N] -P check_run.cmake
+execute_process(COMMAND ${EMULATOR} ${EXE} ${ARGS}
+  RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE errors)
+if(NOT result EQUAL EXPECT_EXIT)
+  message(FATAL_ERROR "'${EXE} ${ARGS}' exited with '${result}', expected ${EXPECT_EXIT}: ${errors}")
+endif()
+if(DEFINED EXPECT_HEADER)
+  string(REPLACE "\n" ";" lines "${output}")
+  list(GET lines 0 header)
+  if(NOT header STREQUAL EXPECT_HEADER)
+    message(FATAL_ERROR "header '${header}', expected '${EXPECT_HEADER}'")
+  endif()
+  list(FILTER lines EXCLUDE REGEX "^$")
+  list(LENGTH lines count)
+  math(EXPR rows "${count} - 1")
+  if(DEFINED EXPECT_ROWS AND NOT rows EQUAL EXPECT_ROWS)
+    message(FATAL_ERROR "${rows} rows, expected ${EXPECT_ROWS}:\n${output}")
+  endif()
+endif()
