@@ -1,0 +1,51 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "cleanslam/sim_hal/gray_image.hpp"
+#include "cleanslam/sim_hal/sim/random.hpp"
+#include "cleanslam/sim_hal/sim/scenario.hpp"
+#include "cleanslam/sim_hal/sim/sim_math.hpp"
+
+// The rendered camera mode: ray casting of the room (walls, floor, ceiling, furniture boxes) with
+// procedural corner-rich textures, simple shading, exposure gain, a little blur and pixel noise,
+// into 8-bit gray images of the calibrated size. One ray per pixel through the (distorted) pinhole.
+namespace cleanslam::sim_hal::sim {
+
+class Renderer {
+ public:
+  explicit Renderer(const Scenario& scenario);
+
+  // Renders the view from `world_camera` (optical frame: z forward, x right, y down) with
+  // brightness gain `exposure` (1 = nominal); `rng` draws the pixel noise.
+  void render(const Pose3& world_camera, double exposure, Random& rng, GrayImage& out);
+
+  // Albedo in [0, 1] of surface `surface` at surface coordinates (a, b) in metres. Surfaces:
+  // 0 floor, 1 ceiling, 2..5 walls, 6.. furniture boxes.
+  [[nodiscard]] double albedo(int surface, double a, double b) const;
+  // The surface seen by pixel (x, y), or -1.
+  [[nodiscard]] int surface_at(const Pose3& world_camera, int x, int y) const;
+
+ private:
+  struct Hit {
+    double distance;
+    int surface;
+    double a;
+    double b;
+    double cos_incidence;
+  };
+  [[nodiscard]] Hit cast(Vec3 origin, Vec3 dir) const;
+
+  Scenario::Camera camera_;
+  Vec3 room_;
+  std::vector<Box> boxes_;
+  std::uint64_t seed_;
+  double noise_sigma_;
+  double blur_;
+  std::vector<Vec3> rays_;  // unit ray of each pixel in the camera frame
+  std::vector<float> radiance_;
+  std::vector<float> scratch_;
+};
+
+}  // namespace cleanslam::sim_hal::sim

@@ -1,0 +1,181 @@
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "cleanslam/sim_hal/dataset.hpp"
+#include "cleanslam/sim_hal/yaml_document.hpp"
+
+namespace cleanslam::sim_hal {
+namespace {
+
+// The rotation block must be orthonormal with determinant +1 and the last row 0 0 0 1.
+std::string check_transform(const std::array<double, 16>& t) {
+  if (t[12] != 0.0 || t[13] != 0.0 || t[14] != 0.0 || t[15] != 1.0) {
+    return "last row must be 0 0 0 1";
+  }
+  constexpr double kTol = 1e-4;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      double dot = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        dot += t[static_cast<std::size_t>(4 * k + i)] * t[static_cast<std::size_t>(4 * k + j)];
+      }
+      if (std::abs(dot - (i == j ? 1.0 : 0.0)) > kTol) return "rotation block is not orthonormal";
+    }
+  }
+  const double det = t[0] * (t[5] * t[10] - t[6] * t[9]) - t[1] * (t[4] * t[10] - t[6] * t[8]) +
+                     t[2] * (t[4] * t[9] - t[5] * t[8]);
+  if (det < 0.0) return "rotation block has determinant -1 (a reflection)";
+  return {};
+}
+
+}  // namespace
+
+std::string format_double(double v) {
+  // Plain decimal (shortest round trip) where it is not absurdly long, so that other YAML and
+  // CSV readers (which may not take "1e-04" as a number) agree; otherwise d.ddde+XX.
+  char buf[400];
+  const double a = std::abs(v);
+  const bool fixed = a == 0.0 || (a >= 1e-12 && a < 1e15);
+  auto [ptr, ec] = fixed ? std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::fixed)
+                         : std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::scientific);
+  if (ec != std::errc()) return "nan";
+  std::string s(buf, ptr);
+  if (fixed && s.find('.') == std::string::npos && s.find_first_of("ni") == std::string::npos) {
+    s += ".0";
+  }
+  if (!fixed && s.find('.') == std::string::npos) s.insert(s.find('e'), ".0");
+  return s;
+}
+
+Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::string& file_name,
+                                            std::vector<std::string>* warnings) {
+  using R = Result<hal::Calibration>;
+  auto doc = yaml::parse_string(text, file_name);
+  if (!doc.ok()) return R::failure(doc.error());
+  yaml::Diagnostics diag;
+  yaml::MappingReader root(*doc, "", diag);
+  if (doc->is_null()) return R::failure(file_name + ":1: empty document, expected sensors");
+  hal::Calibration c;
+  {
+    yaml::MappingReader cam = root.required_mapping("camera");
+    const auto width = cam.required_int("width");
+    const auto height = cam.required_int("height");
+    auto check_side = [&](std::int64_t v, const char* key) {
+      if (cam.has(key) && (v <= 0 || v > 16384)) {
+        diag.errors.push_back(file_name + ": " + cam.path(key) + ": " + std::to_string(v) +
+                              " is not a valid image size");
+      }
+    };
+    check_side(width, "width");
+    check_side(height, "height");
+    c.camera.width = static_cast<int>(std::clamp<std::int64_t>(width, 0, 16384));
+    c.camera.height = static_cast<int>(std::clamp<std::int64_t>(height, 0, 16384));
+    c.camera.fx = cam.required_double("fx");
+    c.camera.fy = cam.required_double("fy");
+    c.camera.cx = cam.required_double("cx");
+    c.camera.cy = cam.required_double("cy");
+    if (cam.has("fx") && c.camera.fx <= 0.0) {
+      diag.errors.push_back(file_name + ": camera.fx: must be positive");
+    }
+    if (cam.has("fy") && c.camera.fy <= 0.0) {
+      diag.errors.push_back(file_name + ": camera.fy: must be positive");
+    }
+    const auto dist = cam.optional_doubles("distortion", {0.0, 0.0, 0.0, 0.0}, 4);
+    for (std::size_t i = 0; i < 4 && i < dist.size(); ++i) c.camera.distortion[i] = dist[i];
+    const yaml::Node* tnode = cam.node("T_body_cam");
+    const auto t = cam.required_doubles("T_body_cam", 16);
+    if (t.size() == 16) {
+      std::copy(t.begin(), t.end(), c.camera.T_body_cam.begin());
+      const std::string bad = check_transform(c.camera.T_body_cam);
+      if (!bad.empty()) {
+        diag.errors.push_back((tnode != nullptr ? tnode->location.str() : file_name) +
+                              ": camera.T_body_cam: " + bad);
+      }
+    }
+    c.camera.pixel_noise = cam.optional_double("pixel_noise", c.camera.pixel_noise);
+    c.camera.time_offset_s = cam.optional_double("time_offset_s", 0.0);
+    cam.report_unknown_keys();
+  }
+  {
+    yaml::MappingReader w = root.required_mapping("wheels");
+    c.wheels.ticks_per_meter_left = w.required_double("ticks_per_meter_left");
+    c.wheels.ticks_per_meter_right = w.required_double("ticks_per_meter_right");
+    c.wheels.wheel_base = w.required_double("wheel_base");
+    c.wheels.distance_noise = w.optional_double("distance_noise", c.wheels.distance_noise);
+    for (const char* key : {"ticks_per_meter_left", "ticks_per_meter_right", "wheel_base"}) {
+      const yaml::Node* n = w.node(key);
+      auto v = n != nullptr ? yaml::as_double(*n, w.path(key)) : Result<double>(1.0);
+      if (v.ok() && *v <= 0.0) {
+        diag.errors.push_back(n->location.str() + ": " + w.path(key) + ": must be positive");
+      }
+    }
+    w.report_unknown_keys();
+  }
+  {
+    yaml::MappingReader g = root.required_mapping("gyro");
+    c.gyro.noise_density = g.required_double("noise_density");
+    c.gyro.bias_instability = g.optional_double("bias_instability", c.gyro.bias_instability);
+    g.report_unknown_keys();
+  }
+  root.report_unknown_keys();
+  if (warnings != nullptr) {
+    warnings->insert(warnings->end(), diag.warnings.begin(), diag.warnings.end());
+  }
+  if (!diag.ok()) return R::failure(diag.error_text());
+  return c;
+}
+
+Result<hal::Calibration> read_sensors_yaml(const std::string& path,
+                                           std::vector<std::string>* warnings) {
+  auto doc_text = [&]() -> Result<std::string> {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return Result<std::string>::failure(path + ": cannot open file");
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }();
+  if (!doc_text.ok()) return Result<hal::Calibration>::failure(doc_text.error());
+  return parse_sensors_yaml(*doc_text, path, warnings);
+}
+
+std::string sensors_yaml_text(const hal::Calibration& c) {
+  const auto& cam = c.camera;
+  std::string s;
+  s += "camera:\n";
+  s += "  width: " + std::to_string(cam.width) + "\n";
+  s += "  height: " + std::to_string(cam.height) + "\n";
+  s += "  fx: " + format_double(cam.fx) + "\n";
+  s += "  fy: " + format_double(cam.fy) + "\n";
+  s += "  cx: " + format_double(cam.cx) + "\n";
+  s += "  cy: " + format_double(cam.cy) + "\n";
+  s += "  distortion: [";
+  for (std::size_t i = 0; i < 4; ++i) s += (i ? ", " : "") + format_double(cam.distortion[i]);
+  s += "]\n";
+  s += "  T_body_cam:\n    [";
+  for (std::size_t i = 0; i < 16; ++i) {
+    s += format_double(cam.T_body_cam[i]);
+    if (i == 15) {
+      s += "]\n";
+    } else if (i % 4 == 3) {
+      s += ",\n     ";
+    } else {
+      s += ", ";
+    }
+  }
+  s += "  pixel_noise: " + format_double(cam.pixel_noise) + "\n";
+  s += "  time_offset_s: " + format_double(cam.time_offset_s) + "\n";
+  s += "wheels:\n";
+  s += "  ticks_per_meter_left: " + format_double(c.wheels.ticks_per_meter_left) + "\n";
+  s += "  ticks_per_meter_right: " + format_double(c.wheels.ticks_per_meter_right) + "\n";
+  s += "  wheel_base: " + format_double(c.wheels.wheel_base) + "\n";
+  s += "  distance_noise: " + format_double(c.wheels.distance_noise) + "\n";
+  s += "gyro:\n";
+  s += "  noise_density: " + format_double(c.gyro.noise_density) + "\n";
+  s += "  bias_instability: " + format_double(c.gyro.bias_instability) + "\n";
+  return s;
+}
+
+}  // namespace cleanslam::sim_hal

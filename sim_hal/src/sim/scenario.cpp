@@ -1,0 +1,320 @@
+#include "cleanslam/sim_hal/sim/scenario.hpp"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "cleanslam/sim_hal/yaml_document.hpp"
+
+namespace cleanslam::sim_hal::sim {
+namespace {
+
+using yaml::MappingReader;
+using yaml::Node;
+
+// Overlays `top` on `base`: mappings merge key by key, anything else replaces.
+void overlay(Node& base, const Node& top) {
+  if (!base.is_mapping() || !top.is_mapping()) {
+    base = top;
+    return;
+  }
+  for (const Node::Entry& e : top.entries) {
+    bool found = false;
+    for (Node::Entry& b : base.entries) {
+      if (b.key == e.key) {
+        overlay(b.value, e.value);
+        found = true;
+        break;
+      }
+    }
+    if (!found) base.entries.push_back(e);
+  }
+}
+
+Result<Node> load_tree(const std::string& name_or_path, int depth) {
+  if (depth > 8) return Result<Node>::failure(name_or_path + ": base scenarios nest too deep");
+  const std::string builtin = builtin_scenario_text(name_or_path);
+  Result<Node> doc = builtin.empty()
+                         ? yaml::parse_file(name_or_path)
+                         : yaml::parse_string(builtin, "scenarios/" + name_or_path + ".yaml");
+  if (!doc.ok()) {
+    if (builtin.empty() && !std::filesystem::exists(name_or_path)) {
+      std::string names;
+      for (const auto& n : builtin_scenario_names()) names += " " + n;
+      return Result<Node>::failure(
+          name_or_path + ": neither a scenario file nor a built-in scenario (built in:" + names +
+          ")");
+    }
+    return doc;
+  }
+  Node root = std::move(doc).value();
+  if (root.is_null()) root.kind = Node::Kind::kMapping;
+  if (!root.is_mapping()) {
+    return Result<Node>::failure(root.location.str() + ": a scenario must be a mapping");
+  }
+  if (const Node* base = root.find("base"); base != nullptr) {
+    auto base_name = yaml::as_string(*base, "base");
+    if (!base_name.ok()) return Result<Node>::failure(base_name.error());
+    auto base_tree = load_tree(*base_name, depth + 1);
+    if (!base_tree.ok()) return base_tree;
+    Node merged = std::move(base_tree).value();
+    overlay(merged, root);
+    return merged;
+  }
+  return root;
+}
+
+Status apply_override(Node& root, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    return Status::failure("--set " + assignment + ": expected key=value");
+  }
+  const std::string key = assignment.substr(0, eq);
+  auto value = yaml::parse_string(assignment.substr(eq + 1), "--set " + key);
+  if (!value.ok()) return Status::failure(value.error());
+  Node* node = &root;
+  std::size_t start = 0;
+  while (true) {
+    const auto dot = key.find('.', start);
+    const std::string part = key.substr(start, dot == std::string::npos ? dot : dot - start);
+    if (part.empty()) return Status::failure("--set " + key + ": empty key part");
+    if (!node->is_mapping()) {
+      node->kind = Node::Kind::kMapping;
+      node->entries.clear();
+    }
+    Node* child = nullptr;
+    for (Node::Entry& e : node->entries) {
+      if (e.key == part) child = &e.value;
+    }
+    if (child == nullptr) {
+      node->entries.push_back(Node::Entry{part, value->location, Node{}});
+      child = &node->entries.back().value;
+    }
+    node = child;
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  *node = std::move(value).value();
+  return Status();
+}
+
+Vec3 read_vec3(MappingReader& r, const char* key, Vec3 fallback) {
+  const auto v = r.optional_doubles(key, {fallback.x, fallback.y, fallback.z}, 3);
+  return v.size() == 3 ? Vec3{v[0], v[1], v[2]} : fallback;
+}
+
+int read_int(MappingReader& r, const char* key, int fallback) {
+  const auto v = r.optional_int(key, fallback);
+  return static_cast<int>(std::clamp<std::int64_t>(v, -1'000'000, 1'000'000));
+}
+
+}  // namespace
+
+Result<Scenario> load_scenario(const std::string& name_or_path,
+                               const std::vector<std::string>& overrides) {
+  using R = Result<Scenario>;
+  auto tree = load_tree(name_or_path, 0);
+  if (!tree.ok()) return R::failure(tree.error());
+  Node root = std::move(tree).value();
+  for (const std::string& o : overrides) {
+    Status s = apply_override(root, o);
+    if (!s) return R::failure(s.error());
+  }
+  yaml::Diagnostics diag;
+  MappingReader r(root, "", diag);
+  Scenario sc;
+  r.optional_string("base", "");
+  sc.name = r.optional_string("name", std::filesystem::path(name_or_path).stem().string());
+  sc.seed = static_cast<std::uint64_t>(r.optional_int("seed", 1));
+  sc.start_time_s = r.optional_double("start_time_s", sc.start_time_s);
+  sc.duration_s = r.optional_double("duration_s", sc.duration_s);
+  {
+    MappingReader w = r.optional_mapping("world");
+    sc.world.size = read_vec3(w, "size", sc.world.size);
+    if (const Node* f = w.node("furniture"); f != nullptr) {
+      if (!f->is_sequence()) {
+        diag.errors.push_back(f->location.str() + ": world.furniture: expected a sequence");
+      } else {
+        for (std::size_t i = 0; i < f->items.size(); ++i) {
+          MappingReader b(f->items[i], "world.furniture[" + std::to_string(i) + "]", diag);
+          Box box{read_vec3(b, "min", {}), read_vec3(b, "max", {})};
+          b.report_unknown_keys();
+          sc.world.furniture.push_back(box);
+        }
+      }
+    }
+    w.report_unknown_keys();
+  }
+  {
+    MappingReader m = r.optional_mapping("landmarks");
+    auto& l = sc.landmarks;
+    l.on_walls = read_int(m, "on_walls", l.on_walls);
+    l.on_furniture = read_int(m, "on_furniture", l.on_furniture);
+    l.posts = read_int(m, "posts", l.posts);
+    l.min_height = m.optional_double("min_height", l.min_height);
+    l.max_height = m.optional_double("max_height", l.max_height);
+    l.post_height = m.optional_double("post_height", l.post_height);
+    l.post_height_spread = m.optional_double("post_height_spread", l.post_height_spread);
+    l.post_margin = m.optional_double("post_margin", l.post_margin);
+    m.report_unknown_keys();
+  }
+  {
+    MappingReader m = r.optional_mapping("person");
+    auto& p = sc.person;
+    p.enabled = m.optional_bool("enabled", p.enabled);
+    p.points = read_int(m, "points", p.points);
+    p.radius = m.optional_double("radius", p.radius);
+    p.height = m.optional_double("height", p.height);
+    p.speed = m.optional_double("speed", p.speed);
+    p.from = read_vec3(m, "from", p.from);
+    p.to = read_vec3(m, "to", p.to);
+    m.report_unknown_keys();
+  }
+  {
+    MappingReader m = r.optional_mapping("path");
+    auto& p = sc.path;
+    p.type = m.optional_string("type", p.type);
+    p.speed = m.optional_double("speed", p.speed);
+    p.turn_rate = m.optional_double("turn_rate", p.turn_rate);
+    p.lane_spacing = m.optional_double("lane_spacing", p.lane_spacing);
+    p.margin = m.optional_double("margin", p.margin);
+    p.wall_follow = m.optional_bool("wall_follow", p.wall_follow);
+    p.repeats = read_int(m, "repeats", p.repeats);
+    if (const Node* stops = m.node("stops"); stops != nullptr) {
+      if (!stops->is_sequence()) {
+        diag.errors.push_back(stops->location.str() + ": path.stops: expected a sequence");
+      } else {
+        for (std::size_t i = 0; i < stops->items.size(); ++i) {
+          MappingReader s(stops->items[i], "path.stops[" + std::to_string(i) + "]", diag);
+          p.stops.push_back(StopSpec{s.required_double("at_s"), s.required_double("duration_s")});
+          s.report_unknown_keys();
+        }
+      }
+    }
+    p.min_speed = m.optional_double("min_speed", p.min_speed);
+    p.max_speed = m.optional_double("max_speed", p.max_speed);
+    p.min_run = m.optional_double("min_run", p.min_run);
+    p.max_run = m.optional_double("max_run", p.max_run);
+    p.min_turn_deg = m.optional_double("min_turn_deg", p.min_turn_deg);
+    p.max_turn_deg = m.optional_double("max_turn_deg", p.max_turn_deg);
+    p.pause_probability = m.optional_double("pause_probability", p.pause_probability);
+    p.max_pause_s = m.optional_double("max_pause_s", p.max_pause_s);
+    p.goal_bias = m.optional_double("goal_bias", p.goal_bias);
+    p.kidnap_at_s = m.optional_double("kidnap_at_s", p.kidnap_at_s);
+    p.kidnap_skip_s = m.optional_double("kidnap_skip_s", p.kidnap_skip_s);
+    p.lift_duration_s = m.optional_double("lift_duration_s", p.lift_duration_s);
+    m.report_unknown_keys();
+    if (p.type != "boustrophedon" && p.type != "wander") {
+      diag.errors.push_back("path.type: expected boustrophedon or wander, got \"" + p.type + "\"");
+    }
+  }
+  {
+    MappingReader m = r.optional_mapping("robot");
+    sc.robot.wheel_base = m.optional_double("wheel_base", sc.robot.wheel_base);
+    sc.robot.ticks_per_meter = m.optional_double("ticks_per_meter", sc.robot.ticks_per_meter);
+    sc.robot.initial_ticks = m.optional_int("initial_ticks", sc.robot.initial_ticks);
+    m.report_unknown_keys();
+  }
+  {
+    MappingReader m = r.optional_mapping("camera");
+    auto& c = sc.camera;
+    c.mode = m.optional_string("mode", c.mode);
+    c.width = read_int(m, "width", c.width);
+    c.height = read_int(m, "height", c.height);
+    c.fx = m.optional_double("fx", c.fx);
+    c.fy = m.optional_double("fy", c.fy);
+    c.cx = m.optional_double("cx", c.cx);
+    c.cy = m.optional_double("cy", c.cy);
+    const auto d = m.optional_doubles("distortion", {0, 0, 0, 0}, 4);
+    for (std::size_t i = 0; i < 4 && i < d.size(); ++i) c.distortion[i] = d[i];
+    c.rate_hz = m.optional_double("rate_hz", c.rate_hz);
+    c.height_m = m.optional_double("height_m", c.height_m);
+    c.forward_m = m.optional_double("forward_m", c.forward_m);
+    c.tilt_deg = m.optional_double("tilt_deg", c.tilt_deg);
+    c.jitter_s = m.optional_double("jitter_s", c.jitter_s);
+    c.pixel_noise = m.optional_double("pixel_noise", c.pixel_noise);
+    c.outlier_probability = m.optional_double("outlier_probability", c.outlier_probability);
+    c.min_range = m.optional_double("min_range", c.min_range);
+    c.max_range = m.optional_double("max_range", c.max_range);
+    c.min_facing_cos = m.optional_double("min_facing_cos", c.min_facing_cos);
+    c.max_features = read_int(m, "max_features", c.max_features);
+    c.image_noise = m.optional_double("image_noise", c.image_noise);
+    c.blur = m.optional_double("blur", c.blur);
+    c.exposure_walk = m.optional_double("exposure_walk", c.exposure_walk);
+    c.exposure_jump_probability =
+        m.optional_double("exposure_jump_probability", c.exposure_jump_probability);
+    c.image_format = m.optional_string("image_format", c.image_format);
+    m.report_unknown_keys();
+    if (c.mode != "features" && c.mode != "images" && c.mode != "both") {
+      diag.errors.push_back("camera.mode: expected features, images or both, got \"" + c.mode +
+                            "\"");
+    }
+    if (c.image_format != "png" && c.image_format != "pgm") {
+      diag.errors.push_back("camera.image_format: expected png or pgm, got \"" + c.image_format +
+                            "\"");
+    }
+  }
+  {
+    MappingReader m = r.optional_mapping("gyro");
+    auto& g = sc.gyro;
+    g.rate_hz = m.optional_double("rate_hz", g.rate_hz);
+    g.noise_density = m.optional_double("noise_density", g.noise_density);
+    g.initial_bias = m.optional_double("initial_bias", g.initial_bias);
+    g.bias_walk = m.optional_double("bias_walk", g.bias_walk);
+    g.scale_error = m.optional_double("scale_error", g.scale_error);
+    m.report_unknown_keys();
+  }
+  {
+    MappingReader m = r.optional_mapping("encoders");
+    auto& e = sc.encoders;
+    e.rate_hz = m.optional_double("rate_hz", e.rate_hz);
+    e.scale_error_left = m.optional_double("scale_error_left", e.scale_error_left);
+    e.scale_error_right = m.optional_double("scale_error_right", e.scale_error_right);
+    e.wheel_base_error = m.optional_double("wheel_base_error", e.wheel_base_error);
+    e.distance_noise = m.optional_double("distance_noise", e.distance_noise);
+    e.slip_rate_hz = m.optional_double("slip_rate_hz", e.slip_rate_hz);
+    e.slip_duration_s = m.optional_double("slip_duration_s", e.slip_duration_s);
+    e.slip_fraction = m.optional_double("slip_fraction", e.slip_fraction);
+    m.report_unknown_keys();
+  }
+  {
+    MappingReader m = r.optional_mapping("groundtruth");
+    sc.groundtruth.rate_hz = m.optional_double("rate_hz", sc.groundtruth.rate_hz);
+    m.report_unknown_keys();
+  }
+  r.report_unknown_keys();
+  // In a scenario a misspelt key would silently keep a default: unknown keys are errors.
+  for (const std::string& w : diag.warnings)
+    diag.errors.push_back(w.substr(0, w.rfind(", ignored")));
+  auto positive = [&](double v, const char* key) {
+    if (!(v > 0.0)) diag.errors.push_back(std::string(key) + ": must be positive");
+  };
+  positive(sc.camera.rate_hz, "camera.rate_hz");
+  positive(sc.gyro.rate_hz, "gyro.rate_hz");
+  positive(sc.encoders.rate_hz, "encoders.rate_hz");
+  positive(sc.groundtruth.rate_hz, "groundtruth.rate_hz");
+  positive(sc.camera.fx, "camera.fx");
+  positive(sc.camera.fy, "camera.fy");
+  positive(sc.robot.wheel_base, "robot.wheel_base");
+  positive(sc.robot.ticks_per_meter, "robot.ticks_per_meter");
+  positive(sc.path.turn_rate, "path.turn_rate");
+  positive(sc.path.lane_spacing, "path.lane_spacing");
+  positive(sc.world.size.x, "world.size[0]");
+  positive(sc.world.size.y, "world.size[1]");
+  if (sc.camera.width <= 0 || sc.camera.height <= 0 || sc.camera.width > 4096 ||
+      sc.camera.height > 4096) {
+    diag.errors.push_back("camera.width/height: out of range");
+  }
+  if (sc.path.type == "boustrophedon") positive(sc.path.speed, "path.speed");
+  if (sc.path.type == "wander") {
+    positive(sc.duration_s, "duration_s (a wander path needs it)");
+    positive(sc.path.min_speed, "path.min_speed");
+  }
+  if (2.0 * sc.path.margin >= std::min(sc.world.size.x, sc.world.size.y)) {
+    diag.errors.push_back("path.margin: leaves no room to drive in world.size");
+  }
+  if (sc.duration_s > 24.0 * 3600.0) diag.errors.push_back("duration_s: more than a day");
+  if (!diag.ok()) return R::failure(diag.error_text());
+  return sc;
+}
+
+}  // namespace cleanslam::sim_hal::sim

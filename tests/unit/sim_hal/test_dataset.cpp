@@ -1,0 +1,523 @@
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "cleanslam/sim_hal/dataset.hpp"
+#include "cleanslam/sim_hal/dataset_source.hpp"
+#include "cleanslam/sim_hal/dataset_writer.hpp"
+#include "cleanslam/sim_hal/gray_image.hpp"
+
+namespace fs = std::filesystem;
+using namespace cleanslam;
+using sim_hal::DatasetSource;
+using sim_hal::DatasetWriter;
+
+namespace {
+
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() / (std::string("cleanslam_ds_") + info->test_suite_name() +
+                                         "_" + info->name() + "_" + std::to_string(::getpid()));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  [[nodiscard]] const fs::path& path() const { return path_; }
+  [[nodiscard]] std::string str() const { return path_.string(); }
+
+ private:
+  fs::path path_;
+};
+
+sim_hal::GrayImage pattern(int w, int h, int seed) {
+  sim_hal::GrayImage img(w, h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x)
+      img.at(x, y) = static_cast<std::uint8_t>((x * 7 + y * 3 + seed) & 0xFF);
+  }
+  return img;
+}
+
+void write_file(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary | std::ios::trunc);
+  out << text;
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void replace_in_file(const fs::path& p, const std::string& from, const std::string& to) {
+  std::string s = read_file(p);
+  const auto pos = s.find(from);
+  ASSERT_NE(pos, std::string::npos) << from;
+  s.replace(pos, from.size(), to);
+  write_file(p, s);
+}
+
+// A small dataset: 1 s of gyro at 100 Hz, encoders at 20 Hz, images at 0.25 s and 0.75 s,
+// features at 0.25 s (with the image) and 0.5 s (alone), ground truth at 10 Hz.
+void make_dataset(const std::string& folder, int width = 32, int height = 24,
+                  DatasetWriter::ImageFormat format = DatasetWriter::ImageFormat::kPng) {
+  hal::Calibration cal;
+  cal.camera.width = width;
+  cal.camera.height = height;
+  DatasetWriter w;
+  ASSERT_TRUE(w.open(folder, cal, format).ok());
+  for (int i = 0; i < 100; ++i) {
+    w.add_gyro(hal::GyroSample{i * 10 * hal::kNsPerMillisecond, 0.01 * i, 0, 0, false, 0});
+  }
+  for (int i = 0; i < 20; ++i) {
+    // Counters near the 32-bit limits, wrapping (computed without signed overflow).
+    const auto step = static_cast<std::uint32_t>(10 * i);
+    w.add_encoder(hal::EncoderSample{i * 50 * hal::kNsPerMillisecond + 1,
+                                     static_cast<std::int32_t>(2147483600U + step),
+                                     static_cast<std::int32_t>(2147483696U - step), 0});
+  }
+  ASSERT_TRUE(w.add_image(250 * hal::kNsPerMillisecond, pattern(width, height, 1).view()).ok());
+  ASSERT_TRUE(w.add_image(750 * hal::kNsPerMillisecond, pattern(width, height, 2).view()).ok());
+  const hal::FeatureObservation f1[] = {{3, 10.5, 11.25}, {7, 1.0, 2.0}};
+  const hal::FeatureObservation f2[] = {{3, 12.5, 11.0}};
+  w.add_features(250 * hal::kNsPerMillisecond, f1, 2);
+  w.add_features(500 * hal::kNsPerMillisecond, f2, 1);
+  for (int i = 0; i < 10; ++i) {
+    w.add_groundtruth(sim_hal::GroundTruthPose{
+        i * 100 * hal::kNsPerMillisecond, {0.1 * i, 0.0, 0.0}, {1.0, 0.0, 0.0, 0.0}});
+  }
+  ASSERT_TRUE(w.close().ok());
+}
+
+std::string load_error(const std::string& folder) {
+  auto d = sim_hal::load_dataset(folder);
+  return d.ok() ? std::string("(loaded)") : d.error();
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+}  // namespace
+
+TEST(Dataset, WriterAndReaderRoundTrip) {
+  TempDir dir;
+  make_dataset(dir.str());
+  auto d = sim_hal::load_dataset(dir.str());
+  ASSERT_TRUE(d.ok()) << d.error();
+  EXPECT_TRUE(d->warnings.empty());
+  ASSERT_EQ(d->gyro.size(), 100U);
+  EXPECT_DOUBLE_EQ(d->gyro[37].wz_rad_s, 0.37);
+  ASSERT_EQ(d->encoders.size(), 20U);
+  ASSERT_EQ(d->camera.size(), 2U);
+  ASSERT_EQ(d->features.size(), 3U);
+  EXPECT_EQ(d->features[1].observation.track_id, 7);
+  EXPECT_DOUBLE_EQ(d->features[0].observation.v_px, 11.25);
+  ASSERT_EQ(d->groundtruth.size(), 10U);
+  EXPECT_DOUBLE_EQ(d->groundtruth[3].position_m[0], 0.1 * 3);
+  EXPECT_EQ(d->calibration.camera.width, 32);
+  EXPECT_EQ(d->calibration.camera.T_body_cam, hal::Calibration{}.camera.T_body_cam);
+}
+
+TEST(Dataset, TickWrapAroundPassesThroughUnchanged) {
+  TempDir dir;
+  make_dataset(dir.str());
+  auto d = sim_hal::load_dataset(dir.str());
+  ASSERT_TRUE(d.ok()) << d.error();
+  // 2147483600 + 10 * 19 wraps past INT32_MAX.
+  for (std::size_t i = 0; i < d->encoders.size(); ++i) {
+    const int k = static_cast<int>(i);
+    EXPECT_EQ(d->encoders[i].left_ticks, static_cast<std::int32_t>(static_cast<std::uint32_t>(
+                                             2147483600U + 10U * static_cast<unsigned>(k))));
+  }
+  EXPECT_LT(d->encoders[19].left_ticks, 0);
+  EXPECT_GT(d->encoders[19].right_ticks, 0);
+  EXPECT_EQ(hal::tick_delta(d->encoders[19].left_ticks, d->encoders[0].left_ticks), 190);
+  EXPECT_EQ(hal::tick_delta(d->encoders[19].right_ticks, d->encoders[0].right_ticks), -190);
+  // Written as unsigned 32-bit values they wrap to the same counters.
+  write_file(dir.path() / "encoders.csv",
+             "#t_ns,left_ticks,right_ticks\n0,4294967295,-2147483648\n5,2147483647,0\n");
+  auto e = sim_hal::read_encoders_csv((dir.path() / "encoders.csv").string());
+  ASSERT_TRUE(e.ok()) << e.error();
+  EXPECT_EQ((*e)[0].left_ticks, -1);
+  EXPECT_EQ((*e)[0].right_ticks, INT32_MIN);
+  EXPECT_EQ((*e)[1].left_ticks, INT32_MAX);
+  write_file(dir.path() / "encoders.csv", "#t_ns,left_ticks,right_ticks\n0,4294967296,0\n");
+  EXPECT_TRUE(contains(load_error(dir.str()), "encoders.csv:2: left_ticks:"));
+}
+
+TEST(Dataset, MissingRequiredFile) {
+  for (const char* name : {"sensors.yaml", "gyro.csv", "encoders.csv"}) {
+    TempDir dir;
+    make_dataset(dir.str());
+    fs::remove(dir.path() / name);
+    const std::string e = load_error(dir.str());
+    EXPECT_TRUE(contains(e, name) && contains(e, "cannot open")) << e;
+  }
+  TempDir dir;
+  make_dataset(dir.str());
+  fs::remove_all(dir.path() / "cam0");
+  fs::remove(dir.path() / "features.csv");
+  EXPECT_TRUE(contains(load_error(dir.str()), "neither cam0/data.csv nor features.csv"));
+  EXPECT_TRUE(contains(load_error((dir.path() / "nope").string()), "not a dataset folder"));
+}
+
+TEST(Dataset, BadHeader) {
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "gyro.csv", "#t_ns,wz_rad_s", "#t_ns,wz");
+  const std::string e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "gyro.csv:1: expected the header \"#t_ns,wz_rad_s\"")) << e;
+  TempDir dir2;
+  make_dataset(dir2.str());
+  replace_in_file(dir2.path() / "encoders.csv", "#t_ns,", "t_ns,");
+  EXPECT_TRUE(contains(load_error(dir2.str()), "encoders.csv:1: expected the header"));
+}
+
+TEST(Dataset, NonNumericAndWrongFieldCount) {
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "gyro.csv", "\n20000000,0.02\n", "\n20000000,abc\n");
+  std::string e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "gyro.csv:4: wz_rad_s: expected a finite number, got \"abc\"")) << e;
+  replace_in_file(dir.path() / "gyro.csv", "\n20000000,abc\n", "\n20000000,nan\n");
+  e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "gyro.csv:4: wz_rad_s:")) << e;
+  replace_in_file(dir.path() / "gyro.csv", "\n20000000,nan\n", "\n20000000,1,2\n");
+  e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "gyro.csv:4: expected 2 fields, got 3")) << e;
+  replace_in_file(dir.path() / "gyro.csv", "\n20000000,1,2\n", "\n20000000,0.02\n");
+  replace_in_file(dir.path() / "features.csv", "\n250000000,7,", "\n250000000,-7,");
+  e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "features.csv:3: track_id: track id must be non-negative")) << e;
+  replace_in_file(dir.path() / "features.csv", "\n250000000,-7,", "\n25e7,7,");
+  e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "features.csv:3: t_ns: expected an integer, got \"25e7\"")) << e;
+}
+
+TEST(Dataset, UnsortedTimeStamps) {
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "encoders.csv", "\n100000001,", "\n1,");
+  const std::string e = load_error(dir.str());
+  EXPECT_TRUE(
+      contains(e, "encoders.csv:4: t_ns: time stamp 1 is not after the previous row's 50000001"))
+      << e;
+  TempDir dir2;
+  make_dataset(dir2.str());
+  replace_in_file(dir2.path() / "groundtruth.csv", "\n200000000,", "\n100000000,");
+  EXPECT_TRUE(contains(load_error(dir2.str()), "groundtruth.csv:4: t_ns: time stamp"));
+}
+
+TEST(Dataset, ImageNamesStayInsideCam0Data) {
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "cam0" / "data.csv", ",750000000.png", ",../../gyro.csv");
+  const std::string e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "cam0/data.csv:3: filename: file name must be relative")) << e;
+  fs::create_directories(dir.path() / "cam0" / "data" / "a..b");
+  fs::rename(dir.path() / "cam0" / "data" / "750000000.png",
+             dir.path() / "cam0" / "data" / "a..b" / "x..png");
+  replace_in_file(dir.path() / "cam0" / "data.csv", ",../../gyro.csv", ",a..b/x..png");
+  EXPECT_EQ(load_error(dir.str()), "(loaded)");
+}
+
+TEST(Dataset, MissingImage) {
+  TempDir dir;
+  make_dataset(dir.str());
+  fs::remove(dir.path() / "cam0" / "data" / "750000000.png");
+  const std::string e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "cam0/data.csv:3: filename:") && contains(e, "image not found")) << e;
+}
+
+TEST(Dataset, WrongImageSize) {
+  TempDir dir;
+  make_dataset(dir.str());
+  ASSERT_TRUE(sim_hal::write_png((dir.path() / "cam0" / "data" / "250000000.png").string(),
+                                 pattern(16, 24, 0).view())
+                  .ok());
+  const std::string e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "cam0/data.csv:2: filename:") &&
+              contains(e, "image is 16x24, sensors.yaml says 32x24"))
+      << e;
+  write_file(dir.path() / "cam0" / "data" / "250000000.png", "not an image at all");
+  EXPECT_TRUE(contains(load_error(dir.str()), "not a binary PGM (P5) or PNG image"));
+}
+
+TEST(Dataset, MissingRequiredYamlKey) {
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "sensors.yaml", "  fy: 280.0\n", "");
+  std::string e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "sensors.yaml:2: camera.fy: missing required key")) << e;
+  replace_in_file(dir.path() / "sensors.yaml", "  wheel_base: 0.235\n", "  wheel_base: wide\n");
+  e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "camera.fy: missing required key")) << e;
+  EXPECT_TRUE(contains(e, "wheels.wheel_base: expected a number, got \"wide\"")) << e;
+}
+
+TEST(Dataset, UnknownYamlKeyIsAWarning) {
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "sensors.yaml", "gyro:\n", "gyro:\n  colour: blue\n");
+  auto d = sim_hal::load_dataset(dir.str());
+  ASSERT_TRUE(d.ok()) << d.error();
+  ASSERT_EQ(d->warnings.size(), 1U);
+  EXPECT_TRUE(contains(d->warnings[0], "gyro.colour: unknown key, ignored")) << d->warnings[0];
+}
+
+TEST(Dataset, BadTransformIsRefused) {
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "sensors.yaml", "[0.0, 0.0, 1.0, 0.1,", "[0.0, 0.0, 2.0, 0.1,");
+  EXPECT_TRUE(
+      contains(load_error(dir.str()), "camera.T_body_cam: rotation block is not orthonormal"));
+}
+
+TEST(Dataset, ImagesRoundTripAsPgmAndPng) {
+  TempDir dir;
+  const auto img = pattern(40, 30, 5);
+  for (const char* name : {"a.pgm", "a.png"}) {
+    const std::string p = (dir.path() / name).string();
+    const bool png = std::string(name).ends_with("png");
+    ASSERT_TRUE((png ? sim_hal::write_png(p, img.view()) : sim_hal::write_pgm(p, img.view())).ok());
+    sim_hal::GrayImage back;
+    ASSERT_TRUE(sim_hal::read_gray_image(p, back).ok());
+    EXPECT_EQ(back.width, 40);
+    EXPECT_EQ(back.height, 30);
+    EXPECT_EQ(back.pixels, img.pixels);
+    auto size = sim_hal::read_gray_image_size(p);
+    ASSERT_TRUE(size.ok());
+    EXPECT_EQ(size->width, 40);
+  }
+  write_file(dir.path() / "c.pgm", "P5\n# comment\n4 2\n255\nabcdefg");
+  sim_hal::GrayImage back;
+  auto s = sim_hal::read_gray_image((dir.path() / "c.pgm").string(), back);
+  EXPECT_TRUE(!s.ok() && contains(s.error(), "truncated"));
+  write_file(dir.path() / "c.pgm", "P5\n4 2\n65535\nabcdefgh");
+  s = sim_hal::read_gray_image((dir.path() / "c.pgm").string(), back);
+  EXPECT_TRUE(!s.ok() && contains(s.error(), "not 8-bit"));
+  write_file(dir.path() / "c.pgm", "P5\n# comment\n4 2\n255\nabcdefgh");
+  s = sim_hal::read_gray_image((dir.path() / "c.pgm").string(), back);
+  ASSERT_TRUE(s.ok()) << s.error();
+  EXPECT_EQ(back.at(3, 1), 'h');
+}
+
+TEST(DatasetSource, MergesInTimeOrderWithFrames) {
+  TempDir dir;
+  make_dataset(dir.str(), 32, 24, DatasetWriter::ImageFormat::kPgm);
+  auto src = DatasetSource::open(dir.str());
+  ASSERT_TRUE(src.ok()) << src.error();
+  EXPECT_EQ(src->frame_count(), 3U);
+  hal::SensorEvent ev;
+  hal::TimeNs last = -1;
+  int gyro = 0, enc = 0, frames = 0;
+  while (src->read(ev)) {
+    hal::TimeNs t = 0;
+    switch (ev.kind) {
+      case hal::SensorEvent::Kind::kGyro:
+        t = ev.gyro.t_ns;
+        ++gyro;
+        break;
+      case hal::SensorEvent::Kind::kEncoder:
+        t = ev.encoder.t_ns;
+        ++enc;
+        break;
+      case hal::SensorEvent::Kind::kFrame: {
+        t = ev.frame.t_ns;
+        ++frames;
+        if (t == 250 * hal::kNsPerMillisecond) {
+          ASSERT_TRUE(ev.frame.has_image());
+          EXPECT_EQ(ev.frame.image.at(2, 1), pattern(32, 24, 1).at(2, 1));
+          ASSERT_EQ(ev.frame.feature_count, 2);
+          EXPECT_EQ(ev.frame.features[1].track_id, 7);
+        } else if (t == 500 * hal::kNsPerMillisecond) {
+          EXPECT_FALSE(ev.frame.has_image());
+          ASSERT_EQ(ev.frame.feature_count, 1);
+          EXPECT_DOUBLE_EQ(ev.frame.features[0].u_px, 12.5);
+        } else {
+          EXPECT_EQ(t, 750 * hal::kNsPerMillisecond);
+          ASSERT_TRUE(ev.frame.has_image());
+          EXPECT_FALSE(ev.frame.has_features());
+          EXPECT_EQ(ev.frame.image.at(5, 3), pattern(32, 24, 2).at(5, 3));
+        }
+        break;
+      }
+      default:
+        FAIL();
+    }
+    EXPECT_GE(t, last);
+    last = t;
+  }
+  EXPECT_EQ(gyro, 100);
+  EXPECT_EQ(enc, 20);
+  EXPECT_EQ(frames, 3);
+  EXPECT_TRUE(src->exhausted());
+  EXPECT_EQ(src->next_event_time(), -1);
+  EXPECT_EQ(src->image_errors(), 0);
+}
+
+TEST(DatasetSource, LoadsEachImageWhenItIsItsTurn) {
+  TempDir dir;
+  make_dataset(dir.str());
+  auto src = DatasetSource::open(dir.str());
+  ASSERT_TRUE(src.ok()) << src.error();
+  // Replaced after open: the source must read the new pixels, so it did not preload them.
+  ASSERT_TRUE(sim_hal::write_png((dir.path() / "cam0" / "data" / "750000000.png").string(),
+                                 sim_hal::GrayImage(32, 24, 99).view())
+                  .ok());
+  hal::SensorEvent ev;
+  bool seen = false;
+  while (src->read(ev)) {
+    if (ev.kind == hal::SensorEvent::Kind::kFrame &&
+        ev.frame.t_ns == 750 * hal::kNsPerMillisecond) {
+      ASSERT_TRUE(ev.frame.has_image());
+      EXPECT_EQ(ev.frame.image.at(10, 10), 99);
+      seen = true;
+    }
+  }
+  EXPECT_TRUE(seen);
+}
+
+TEST(DatasetSource, ImageVanishingWhileStreamingIsCountedNotFatal) {
+  TempDir dir;
+  make_dataset(dir.str());
+  auto src = DatasetSource::open(dir.str());
+  ASSERT_TRUE(src.ok());
+  fs::remove(dir.path() / "cam0" / "data" / "750000000.png");
+  hal::SensorEvent ev;
+  int frames = 0;
+  while (src->read(ev)) frames += ev.kind == hal::SensorEvent::Kind::kFrame ? 1 : 0;
+  EXPECT_EQ(frames, 3);
+  EXPECT_EQ(src->image_errors(), 1);
+  EXPECT_TRUE(contains(src->last_error(), "750000000.png"));
+}
+
+TEST(DatasetSource, LiftEventsFromLiftCsv) {
+  TempDir dir;
+  make_dataset(dir.str());
+  write_file(dir.path() / "lift.csv", "#t_ns,lifted\n300000000,1\n600000000,0\n");
+  auto src = DatasetSource::open(dir.str());
+  ASSERT_TRUE(src.ok()) << src.error();
+  hal::SensorEvent ev;
+  std::vector<std::pair<hal::TimeNs, bool>> lifts;
+  hal::TimeNs t_before = -1;
+  while (true) {
+    const hal::TimeNs t = src->next_event_time();
+    if (!src->read(ev)) break;
+    EXPECT_GE(t, t_before);
+    t_before = t;
+    if (ev.kind == hal::SensorEvent::Kind::kLift) lifts.emplace_back(t, ev.lifted);
+  }
+  ASSERT_EQ(lifts.size(), 2U);
+  EXPECT_EQ(lifts[0], std::make_pair(hal::TimeNs{300000000}, true));
+  EXPECT_EQ(lifts[1], std::make_pair(hal::TimeNs{600000000}, false));
+  write_file(dir.path() / "lift.csv", "#t_ns,lifted\n300000000,2\n");
+  EXPECT_TRUE(contains(load_error(dir.str()), "lift.csv:2: lifted: expected 0 or 1, got 2"));
+}
+
+TEST(DatasetSource, AppliesTheCameraTimeOffsetOnlyWhenAsked) {
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "sensors.yaml", "time_offset_s: 0.0", "time_offset_s: -0.1");
+  for (bool apply : {false, true}) {
+    DatasetSource::Options options;
+    options.apply_time_offset = apply;
+    auto src = DatasetSource::open(dir.str(), options);
+    ASSERT_TRUE(src.ok()) << src.error();
+    EXPECT_DOUBLE_EQ(src->calibration().camera.time_offset_s, -0.1);
+    hal::SensorEvent ev;
+    std::vector<hal::TimeNs> frames;
+    hal::TimeNs previous = -1;
+    while (true) {
+      const hal::TimeNs t = src->next_event_time();
+      if (!src->read(ev)) break;
+      EXPECT_GE(t, previous);
+      previous = t;
+      if (ev.kind == hal::SensorEvent::Kind::kFrame) frames.push_back(ev.frame.t_ns);
+    }
+    const hal::TimeNs shift = apply ? -100 * hal::kNsPerMillisecond : 0;
+    EXPECT_EQ(frames, (std::vector<hal::TimeNs>{250 * hal::kNsPerMillisecond + shift,
+                                                500 * hal::kNsPerMillisecond + shift,
+                                                750 * hal::kNsPerMillisecond + shift}));
+  }
+}
+
+TEST(DatasetSource, IsDeterministic) {
+  TempDir dir;
+  make_dataset(dir.str());
+  auto a = DatasetSource::open(dir.str());
+  auto b = DatasetSource::open(dir.str());
+  ASSERT_TRUE(a.ok() && b.ok());
+  hal::SensorEvent ea, eb;
+  int n = 0;
+  while (a->read(ea)) {
+    ASSERT_TRUE(b->read(eb));
+    ASSERT_EQ(ea.kind, eb.kind);
+    EXPECT_EQ(ea.gyro.t_ns, eb.gyro.t_ns);
+    EXPECT_EQ(ea.encoder.t_ns, eb.encoder.t_ns);
+    EXPECT_EQ(ea.frame.t_ns, eb.frame.t_ns);
+    ++n;
+  }
+  EXPECT_FALSE(b->read(eb));
+  EXPECT_EQ(n, 123);
+}
+
+// Garbled files are refused or read, never a crash (run under ASan/UBSan too).
+TEST(Dataset, GarbledFilesNeverCrash) {
+  TempDir dir;
+  make_dataset(dir.str(), 32, 24, DatasetWriter::ImageFormat::kPgm);
+  const std::vector<fs::path> files = {dir.path() / "sensors.yaml",
+                                       dir.path() / "gyro.csv",
+                                       dir.path() / "encoders.csv",
+                                       dir.path() / "features.csv",
+                                       dir.path() / "groundtruth.csv",
+                                       dir.path() / "cam0" / "data.csv",
+                                       dir.path() / "cam0" / "data" / "250000000.pgm"};
+  std::vector<std::string> originals;
+  for (const auto& f : files) originals.push_back(read_file(f));
+  std::uint64_t state = 12345;
+  auto next = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return state >> 33;
+  };
+  const char kBytes[] = {',', '\n', '#', '-', '9', 'e', '.', ' ', ':', '[', '\0', '\xff', 'P'};
+  int refused = 0;
+  for (int round = 0; round < 300; ++round) {
+    const std::size_t k = next() % files.size();
+    std::string s = originals[k];
+    const int edits = 1 + static_cast<int>(next() % 4);
+    for (int e = 0; e < edits && !s.empty(); ++e) {
+      const std::size_t pos = next() % s.size();
+      switch (next() % 3) {
+        case 0:
+          s[pos] = kBytes[next() % sizeof(kBytes)];
+          break;
+        case 1:
+          s.erase(pos, 1 + next() % 8);
+          break;
+        default:
+          s.resize(pos);
+          break;
+      }
+    }
+    write_file(files[k], s);
+    auto src = DatasetSource::open(dir.str());
+    if (src.ok()) {
+      hal::SensorEvent ev;
+      while (src->read(ev)) {
+      }
+    } else {
+      ++refused;
+      EXPECT_FALSE(src.error().empty());
+    }
+    write_file(files[k], originals[k]);
+  }
+  EXPECT_GT(refused, 100);
+}

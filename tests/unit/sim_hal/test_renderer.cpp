@@ -1,0 +1,113 @@
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "cleanslam/sim_hal/dataset.hpp"
+#include "cleanslam/sim_hal/dataset_source.hpp"
+#include "cleanslam/sim_hal/sim/renderer.hpp"
+#include "cleanslam/sim_hal/sim/scenario.hpp"
+#include "cleanslam/sim_hal/sim/simulator.hpp"
+
+namespace fs = std::filesystem;
+using namespace cleanslam;
+namespace sim = cleanslam::sim_hal::sim;
+
+namespace {
+
+sim::Scenario room(const std::vector<std::string>& extra = {}) {
+  auto sc = sim::load_scenario("default-room", extra);
+  EXPECT_TRUE(sc.ok()) << sc.error();
+  return *sc;
+}
+
+// Camera of the scenario on a robot at (x, y) with heading yaw.
+sim::Pose3 camera_at(const sim::Scenario& sc, double x, double y, double yaw) {
+  return sim::compose(sim::Pose3{sim::rot_z(yaw), {x, y, 0.0}}, sim::body_to_camera(sc.camera));
+}
+
+}  // namespace
+
+TEST(Renderer, FloorWallBoundaryIsWhereTheGeometrySaysIt) {
+  auto sc = room({"camera.tilt_deg=0", "world.furniture=[]"});
+  sim::Renderer r(sc);
+  // Facing the east wall (x = 6) from x = 3: the camera is 2.9 m from it, 0.1 m up, so the
+  // wall's foot is imaged 280 * 0.1 / 2.9 = 9.66 px below the centre row.
+  const auto wc = camera_at(sc, 3.0, 2.5, 0.0);
+  const double foot = 119.5 + 280.0 * 0.10 / 2.9;
+  const int x = 160;
+  EXPECT_EQ(r.surface_at(wc, x, static_cast<int>(std::floor(foot)) - 1), 5);  // east wall
+  EXPECT_EQ(r.surface_at(wc, x, static_cast<int>(std::ceil(foot)) + 1), 0);   // floor
+  // The ceiling (2.5 m) is seen above 119.5 - 280 * 2.4 / 2.9 = -112: not at all.
+  EXPECT_EQ(r.surface_at(wc, x, 0), 5);
+  // Looking north along y from the middle the left image edge sees the west wall (x = 0).
+  const auto north = camera_at(sc, 0.5, 1.0, std::numbers::pi / 2);
+  EXPECT_EQ(r.surface_at(north, 0, 100), 4);
+}
+
+TEST(Renderer, FurnitureHidesTheWall) {
+  auto sc =
+      room({"camera.tilt_deg=0", "world.furniture=[{min: [4.0, 2.0, 0.0], max: [4.5, 3.0, 1.0]}]"});
+  sim::Renderer r(sc);
+  const auto wc = camera_at(sc, 2.0, 2.5, 0.0);
+  EXPECT_EQ(r.surface_at(wc, 160, 119), 6);  // the box, 1.9 m ahead
+  const auto beside = camera_at(sc, 2.0, 1.0, 0.0);
+  EXPECT_EQ(r.surface_at(beside, 160, 119), 5);  // past it: the wall
+}
+
+TEST(Renderer, RendersTexturedDeterministicImages) {
+  auto sc = room();
+  sim::Renderer r1(sc), r2(sc);
+  sim::Random a(3), b(3);
+  sim_hal::GrayImage i1, i2;
+  const auto wc = camera_at(sc, 1.0, 1.0, 0.6);
+  r1.render(wc, 1.0, a, i1);
+  r2.render(wc, 1.0, b, i2);
+  ASSERT_EQ(i1.width, 320);
+  ASSERT_EQ(i1.height, 240);
+  EXPECT_EQ(i1.pixels, i2.pixels);
+  // Texture: a wide spread of gray levels, not saturated.
+  int lo = 255, hi = 0;
+  double mean = 0.0;
+  for (auto p : i1.pixels) {
+    lo = std::min<int>(lo, p);
+    hi = std::max<int>(hi, p);
+    mean += p;
+  }
+  mean /= static_cast<double>(i1.pixels.size());
+  EXPECT_GT(hi - lo, 100);
+  EXPECT_GT(mean, 40.0);
+  EXPECT_LT(mean, 200.0);
+  // Brighter exposure, brighter image.
+  sim_hal::GrayImage i3;
+  sim::Random c(3);
+  r1.render(wc, 1.3, c, i3);
+  double mean3 = 0.0;
+  for (auto p : i3.pixels) mean3 += p;
+  EXPECT_GT(mean3 / static_cast<double>(i3.pixels.size()), mean * 1.15);
+}
+
+TEST(Renderer, ImagesModeWritesAReadableDataset) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("cleanslam_render_dataset_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  auto sc = room({"camera.mode=both", "duration_s=5", "camera.image_format=pgm"});
+  ASSERT_TRUE(sim::simulate(sc, dir.string()).ok());
+  auto src = sim_hal::DatasetSource::open(dir.string());
+  ASSERT_TRUE(src.ok()) << src.error();
+  hal::SensorEvent ev;
+  int frames = 0, with_both = 0;
+  while (src->read(ev)) {
+    if (ev.kind != hal::SensorEvent::Kind::kFrame) continue;
+    ++frames;
+    ASSERT_TRUE(ev.frame.has_image());
+    EXPECT_EQ(ev.frame.image.width, 320);
+    with_both += ev.frame.has_features() ? 1 : 0;
+  }
+  EXPECT_EQ(frames, 10);
+  EXPECT_GT(with_both, 5);
+  EXPECT_EQ(src->image_errors(), 0);
+  fs::remove_all(dir);
+}
