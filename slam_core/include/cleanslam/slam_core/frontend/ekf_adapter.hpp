@@ -1,0 +1,76 @@
+#pragma once
+
+#include <array>
+#include <cstddef>
+
+#include "cleanslam/hal/capacities.hpp"
+#include "cleanslam/slam_core/frontend/landmark_estimator.hpp"
+
+namespace cleanslam::slam_core::frontend {
+
+// Drives an EKF through the frame pipeline's LandmarkEstimator interface. Written against the
+// EKF's API rather than its type, so that the front end builds without it:
+//   bool predict_pixel(int slot, Prediction&) const   (Prediction: uv, S, depth_m, in_front)
+//   int joint_pixel_innovation(const Observation*, int count, double* nu, double* S) const
+//   int initialize_landmark(double u_px, double v_px)
+//   void delete_landmark(int slot)
+//   const Status& update(const Observation*, int count)   (Status: int fused)
+// with Observation {int slot; double u_px; double v_px;}. For the project's EKF:
+//   EkfAdapter<Ekf, Observation, PixelPrediction>.
+template <class Estimator, class Observation, class Prediction>
+class EkfAdapter final : public LandmarkEstimator {
+ public:
+  explicit EkfAdapter(Estimator& estimator) : estimator_(estimator) {}
+
+  bool predict_pixel(int slot, PixelPrediction& out) override {
+    Prediction p;
+    if (!estimator_.predict_pixel(slot, p)) {
+      return false;
+    }
+    out.uv = p.uv;
+    out.S = p.S;
+    out.depth_m = p.depth_m;
+    out.in_front = p.in_front;
+    return true;
+  }
+
+  int joint_pixel_innovation(const PixelObservation* obs, int count, double* nu,
+                             double* S) override {
+    if (!convert(obs, count)) {
+      return -1;
+    }
+    return estimator_.joint_pixel_innovation(buffer_.data(), count, nu, S);
+  }
+
+  int initialize_landmark(double u_px, double v_px) override {
+    return estimator_.initialize_landmark(u_px, v_px);
+  }
+
+  void delete_landmark(int slot) override { estimator_.delete_landmark(slot); }
+
+  int update(const PixelObservation* obs, int count) override {
+    if (!convert(obs, count)) {
+      return 0;
+    }
+    return estimator_.update(buffer_.data(), count).fused;
+  }
+
+ private:
+  bool convert(const PixelObservation* obs, int count) {
+    if (count < 0 || count > hal::kMaxObservationsPerFrame || (count > 0 && obs == nullptr)) {
+      return false;
+    }
+    for (int i = 0; i < count; ++i) {
+      Observation& o = buffer_[static_cast<std::size_t>(i)];
+      o.slot = obs[i].slot;
+      o.u_px = obs[i].u_px;
+      o.v_px = obs[i].v_px;
+    }
+    return true;
+  }
+
+  Estimator& estimator_;
+  std::array<Observation, hal::kMaxObservationsPerFrame> buffer_{};
+};
+
+}  // namespace cleanslam::slam_core::frontend

@@ -1,0 +1,32 @@
+#pragma once
+
+#include "cleanslam/slam_core/frontend/search_region.hpp"
+
+namespace cleanslam::slam_core::frontend {
+
+// A pixel observation of a landmark slot (the layout of the EKF's Observation).
+struct PixelObservation {
+  int slot = -1;
+  double u_px = 0.0;
+  double v_px = 0.0;
+};
+
+// What the frame pipeline needs from the estimator: the EKF's landmark API, behind an interface
+// so that the front end is built and tested without the EKF (an adapter wraps Ekf).
+class LandmarkEstimator {
+ public:
+  virtual ~LandmarkEstimator() = default;
+  // Predicted pixel, its 2x2 covariance and depth; false when the slot has no prediction.
+  virtual bool predict_pixel(int slot, PixelPrediction& out) = 0;
+  // Stacked innovations (2m) and their joint covariance (2m x 2m, column-major); returns m or -1.
+  virtual int joint_pixel_innovation(const PixelObservation* obs, int count, double* nu,
+                                     double* S) = 0;
+  // Undelayed initialization at a pixel; returns the slot (possibly one reused from a replaced
+  // landmark) or -1.
+  virtual int initialize_landmark(double u_px, double v_px) = 0;
+  virtual void delete_landmark(int slot) = 0;
+  // Fuses the observations; returns how many were fused.
+  virtual int update(const PixelObservation* obs, int count) = 0;
+};
+
+}  // namespace cleanslam::slam_core::frontend

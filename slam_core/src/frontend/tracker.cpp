@@ -1,0 +1,244 @@
+#include "cleanslam/slam_core/frontend/tracker.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+namespace cleanslam::slam_core::frontend {
+
+namespace {
+
+constexpr int kN = kPatchSize * kPatchSize;
+
+// One pass over the 15x15 window centred on (u, v), sampled bilinearly (translation only: one
+// set of weights for all pixels), gathering the sums the Lucas-Kanade step and the NCC need.
+struct WindowSums {
+  float s1 = 0.0F;   // sum w
+  float s2 = 0.0F;   // sum w^2
+  float sgx = 0.0F;  // sum gx w
+  float sgy = 0.0F;  // sum gy w
+  float swt = 0.0F;  // sum w t
+};
+
+bool window_sums(const hal::GrayImageView& image, const PatchTemplate& tmpl, double u, double v,
+                 WindowSums& out) {
+  if (!(u >= kPatchRadius) || !(v >= kPatchRadius)) {
+    return false;
+  }
+  const double fu = std::floor(u);
+  const double fv = std::floor(v);
+  const int ix = static_cast<int>(fu) - kPatchRadius;
+  const int iy = static_cast<int>(fv) - kPatchRadius;
+  if (ix + kPatchSize >= image.width || iy + kPatchSize >= image.height) {
+    return false;
+  }
+  const auto ax = static_cast<float>(u - fu);
+  const auto ay = static_cast<float>(v - fv);
+  const float w00 = (1.0F - ax) * (1.0F - ay);
+  const float w01 = ax * (1.0F - ay);
+  const float w10 = (1.0F - ax) * ay;
+  const float w11 = ax * ay;
+  // Centred on mid-gray so that the float sums of squares keep their precision.
+  constexpr float kBias = 128.0F;
+  float s1 = 0.0F;
+  float s2 = 0.0F;
+  float sgx = 0.0F;
+  float sgy = 0.0F;
+  float swt = 0.0F;
+  for (int r = 0; r < kPatchSize; ++r) {
+    const std::uint8_t* a = image.row(iy + r) + ix;
+    const std::uint8_t* b = a + image.stride;
+    const float* gx = tmpl.gx.data() + r * kPatchSize;
+    const float* gy = tmpl.gy.data() + r * kPatchSize;
+    const float* t = tmpl.zero_mean.data() + r * kPatchSize;
+    for (int c = 0; c < kPatchSize; ++c) {
+      const float w = w00 * static_cast<float>(a[c]) + w01 * static_cast<float>(a[c + 1]) +
+                      w10 * static_cast<float>(b[c]) + w11 * static_cast<float>(b[c + 1]) - kBias;
+      s1 += w;
+      s2 += w * w;
+      sgx += gx[c] * w;
+      sgy += gy[c] * w;
+      swt += t[c] * w;
+    }
+  }
+  out = {s1, s2, sgx, sgy, swt};
+  return true;
+}
+
+}  // namespace
+
+Refinement Tracker::refine(const hal::GrayImageView& image, const PatchTemplate& tmpl, double u_px,
+                           double v_px) const {
+  Refinement out;
+  if (!tmpl.valid) {
+    return out;
+  }
+  const float min_ss = config_.min_window_std * config_.min_window_std * static_cast<float>(kN);
+  const double max_travel2 =
+      static_cast<double>(config_.max_travel_px) * static_cast<double>(config_.max_travel_px);
+  const double eps2 =
+      static_cast<double>(config_.convergence_px) * static_cast<double>(config_.convergence_px);
+  double u = u_px;
+  double v = v_px;
+  bool converged = false;
+  double last_step2 = 0.0;
+  float ncc = 0.0F;
+  int it = 0;
+  WindowSums ws;
+  while (it < config_.max_iterations) {
+    ++it;
+    if (!window_sums(image, tmpl, u, v, ws)) {
+      out.iterations = it;
+      return out;
+    }
+    const float mean = ws.s1 / static_cast<float>(kN);
+    const float ss = ws.s2 - ws.s1 * mean;
+    if (!(ss > min_ss)) {
+      out.iterations = it;
+      return out;
+    }
+    // NCC at this iterate: sum (w - mean) t / sqrt(ss_w ss_t).
+    ncc = (ws.swt - mean * tmpl.sum_t) / std::sqrt(ss * tmpl.sum_sq);
+    // Zero-mean residual with the window's contrast matched to the template's:
+    // e = (w - mean) / g - t, g = sqrt(ss_w / ss_t); b = sum grad(T) e.
+    const float inv_g = std::sqrt(tmpl.sum_sq / ss);
+    const float bx = (ws.sgx - mean * tmpl.sum_gx) * inv_g - tmpl.sum_gx_t;
+    const float by = (ws.sgy - mean * tmpl.sum_gy) * inv_g - tmpl.sum_gy_t;
+    const auto dx = static_cast<double>(tmpl.h_inv_xx * bx + tmpl.h_inv_xy * by);
+    const auto dy = static_cast<double>(tmpl.h_inv_xy * bx + tmpl.h_inv_yy * by);
+    // Inverse compositional update of a translation: p <- p - dp.
+    u -= dx;
+    v -= dy;
+    const double tu = u - u_px;
+    const double tv = v - v_px;
+    if (!std::isfinite(u) || !std::isfinite(v) || tu * tu + tv * tv > max_travel2) {
+      out.iterations = it;
+      return out;
+    }
+    last_step2 = dx * dx + dy * dy;
+    if (last_step2 < eps2) {
+      converged = true;
+      break;
+    }
+  }
+  out.iterations = it;
+  out.u_px = u;
+  out.v_px = v;
+  // The NCC of the last iterate, at most the last (sub-threshold) step away. A run that used all
+  // its iterations still counts when it settled to within a tenth of a pixel.
+  out.ncc = ncc;
+  out.converged = converged || last_step2 < 0.01;
+  return out;
+}
+
+TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate& tmpl,
+                           const SearchRegion& region, const Corner* corners,
+                           int corner_count) const {
+  TrackResult result;
+  if (!region.valid) {
+    result.failure = TrackFailure::kNoRegion;
+    return result;
+  }
+  if (!tmpl.valid) {
+    result.failure = TrackFailure::kNoTemplate;
+    return result;
+  }
+  // Start points: the prediction (clamped into the searchable box), then the corners inside the
+  // gate nearest to it.
+  constexpr int kMaxStarts = 16;
+  std::array<double, kMaxStarts> su{};
+  std::array<double, kMaxStarts> sv{};
+  std::array<double, kMaxStarts> sd{};
+  int n = 0;
+  su[0] = std::clamp(region.center.x(), region.x_min, region.x_max);
+  sv[0] = std::clamp(region.center.y(), region.y_min, region.y_max);
+  sd[0] = -1.0;
+  n = 1;
+  const int max_starts = std::clamp(config_.max_corner_starts + 1, 1, kMaxStarts);
+  for (int i = 0; i < corner_count; ++i) {
+    const double cu = static_cast<double>(corners[i].x);
+    const double cv = static_cast<double>(corners[i].y);
+    if (!region.in_box(cu, cv)) {
+      continue;
+    }
+    const double m2 = region.mahalanobis2(cu, cv);
+    if (m2 > region.gate_chi2) {
+      continue;
+    }
+    // Keep the nearest corners, sorted by insertion.
+    int pos = n;
+    if (n == max_starts) {
+      if (m2 >= sd[static_cast<std::size_t>(n - 1)]) {
+        continue;
+      }
+      pos = n - 1;
+    } else {
+      ++n;
+    }
+    while (pos > 1 && sd[static_cast<std::size_t>(pos - 1)] > m2) {
+      su[static_cast<std::size_t>(pos)] = su[static_cast<std::size_t>(pos - 1)];
+      sv[static_cast<std::size_t>(pos)] = sv[static_cast<std::size_t>(pos - 1)];
+      sd[static_cast<std::size_t>(pos)] = sd[static_cast<std::size_t>(pos - 1)];
+      --pos;
+    }
+    su[static_cast<std::size_t>(pos)] = cu;
+    sv[static_cast<std::size_t>(pos)] = cv;
+    sd[static_cast<std::size_t>(pos)] = m2;
+  }
+
+  bool any = false;
+  Refinement best;
+  double best_m2 = 0.0;
+  std::array<double, kMaxStarts> done_u{};
+  std::array<double, kMaxStarts> done_v{};
+  int done = 0;
+  for (int i = 0; i < n; ++i) {
+    const double u0 = su[static_cast<std::size_t>(i)];
+    const double v0 = sv[static_cast<std::size_t>(i)];
+    // A start next to a point a previous run converged to would converge there again.
+    bool repeat = false;
+    for (int j = 0; j < done && !repeat; ++j) {
+      const double du = done_u[static_cast<std::size_t>(j)] - u0;
+      const double dv = done_v[static_cast<std::size_t>(j)] - v0;
+      repeat = du * du + dv * dv < 0.5;
+    }
+    if (repeat) {
+      continue;
+    }
+    const Refinement r = refine(image, tmpl, u0, v0);
+    if (r.converged) {
+      done_u[static_cast<std::size_t>(done)] = r.u_px;
+      done_v[static_cast<std::size_t>(done)] = r.v_px;
+      ++done;
+    }
+    ++result.starts_tried;
+    result.iterations += r.iterations;
+    if (!r.converged || !region.contains(r.u_px, r.v_px)) {
+      continue;
+    }
+    const double m2 = region.mahalanobis2(r.u_px, r.v_px);
+    const bool better = !any || r.ncc > best.ncc + config_.ncc_tie ||
+                        (r.ncc > best.ncc - config_.ncc_tie && m2 < best_m2);
+    if (better) {
+      best = r;
+      best_m2 = m2;
+      any = true;
+    }
+  }
+  if (!any) {
+    result.failure = TrackFailure::kNoConvergence;
+    return result;
+  }
+  result.u_px = best.u_px;
+  result.v_px = best.v_px;
+  result.ncc = best.ncc;
+  if (best.ncc < config_.min_ncc) {
+    result.failure = TrackFailure::kLowNcc;
+    return result;
+  }
+  result.found = true;
+  return result;
+}
+
+}  // namespace cleanslam::slam_core::frontend

@@ -1,0 +1,106 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+
+#include "cleanslam/slam_core/frontend/ekf_adapter.hpp"
+
+namespace fe = cleanslam::slam_core::frontend;
+
+namespace {
+
+// The EKF's API shape (ekf branch), recording what the adapter passes through.
+struct MockObservation {
+  int slot = -1;
+  double u_px = 0.0;
+  double v_px = 0.0;
+};
+struct MockPrediction {
+  Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d S = Eigen::Matrix2d::Zero();
+  double depth_m = 0.0;
+  bool in_front = false;
+};
+struct MockStatus {
+  int fused = 0;
+};
+
+struct MockEkf {
+  MockStatus status;
+  int last_count = -1;
+  MockObservation last[cleanslam::hal::kMaxObservationsPerFrame];
+  int deleted = -1;
+  bool predict_pixel(int slot, MockPrediction& out) const {
+    if (slot != 3) {
+      return false;
+    }
+    out.uv = {100.0, 50.0};
+    out.S << 4.0, 1.0, 1.0, 9.0;
+    out.depth_m = 2.5;
+    out.in_front = true;
+    return true;
+  }
+  int joint_pixel_innovation(const MockObservation* obs, int count, double* nu, double* S) const {
+    for (int i = 0; i < count; ++i) {
+      nu[2 * i] = obs[i].u_px - 100.0;
+      nu[2 * i + 1] = obs[i].v_px - 50.0;
+    }
+    for (int i = 0; i < 4 * count * count; ++i) {
+      S[i] = 0.0;
+    }
+    return count;
+  }
+  int initialize_landmark(double u_px, double v_px) { return u_px > 0.0 && v_px > 0.0 ? 7 : -1; }
+  void delete_landmark(int slot) { deleted = slot; }
+  const MockStatus& update(const MockObservation* obs, int count) {
+    last_count = count;
+    for (int i = 0; i < count; ++i) {
+      last[i] = obs[i];
+    }
+    status.fused = count - 1;
+    return status;
+  }
+};
+
+using Adapter = fe::EkfAdapter<MockEkf, MockObservation, MockPrediction>;
+
+}  // namespace
+
+TEST(FrontendEkfAdapter, PassesCallsThroughUnchanged) {
+  MockEkf ekf;
+  Adapter adapter(ekf);
+  fe::PixelPrediction p;
+  EXPECT_FALSE(adapter.predict_pixel(2, p));
+  ASSERT_TRUE(adapter.predict_pixel(3, p));
+  EXPECT_EQ(p.uv, Eigen::Vector2d(100.0, 50.0));
+  EXPECT_EQ(p.S(0, 1), 1.0);
+  EXPECT_EQ(p.S(1, 1), 9.0);
+  EXPECT_EQ(p.depth_m, 2.5);
+  EXPECT_TRUE(p.in_front);
+
+  const fe::PixelObservation obs[2] = {{3, 101.0, 52.0}, {5, 90.0, 40.0}};
+  double nu[4];
+  double S[16];
+  EXPECT_EQ(adapter.joint_pixel_innovation(obs, 2, nu, S), 2);
+  EXPECT_EQ(nu[0], 1.0);
+  EXPECT_EQ(nu[3], -10.0);
+  EXPECT_EQ(adapter.update(obs, 2), 1);
+  ASSERT_EQ(ekf.last_count, 2);
+  EXPECT_EQ(ekf.last[1].slot, 5);
+  EXPECT_EQ(ekf.last[1].u_px, 90.0);
+  EXPECT_EQ(adapter.initialize_landmark(10.0, 20.0), 7);
+  EXPECT_EQ(adapter.initialize_landmark(-1.0, 20.0), -1);
+  adapter.delete_landmark(9);
+  EXPECT_EQ(ekf.deleted, 9);
+}
+
+TEST(FrontendEkfAdapter, RejectsMoreObservationsThanAFrameHolds) {
+  MockEkf ekf;
+  Adapter adapter(ekf);
+  fe::PixelObservation obs[cleanslam::hal::kMaxObservationsPerFrame + 1] = {};
+  double nu[2];
+  double S[4];
+  EXPECT_EQ(
+      adapter.joint_pixel_innovation(obs, cleanslam::hal::kMaxObservationsPerFrame + 1, nu, S), -1);
+  EXPECT_EQ(adapter.update(obs, -1), 0);
+  EXPECT_EQ(ekf.last_count, -1);
+}
