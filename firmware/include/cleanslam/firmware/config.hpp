@@ -1,0 +1,77 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cleanslam/firmware/loop.hpp"
+#include "cleanslam/firmware/recorder.hpp"
+#include "cleanslam/hal/calibration.hpp"
+#include "cleanslam/sim_hal/result.hpp"
+
+namespace cleanslam::firmware {
+
+// The EKF's parameters (slam_core::EkfConfig) and the initial pose uncertainty.
+struct FilterSettings {
+  double eps_ct_m = 30.0;        // eq. 14-15, along the ray (paper: 30 m .. 1000 m)
+  double assumed_depth_m = 5.0;  // eq. 13
+  double eps_trk_px = 0.5;       // eq. 16
+  double eps_cal_px = 0.5;       // eq. 16
+  double gate_chi2 = 11.34;      // per observation, 3 dof, 99 %
+  int max_landmarks = 128;       // slots in use at most (<= hal::kMaxLandmarks)
+  // Heading from the encoders alone while the gyro is silent: random walk per sqrt(metre).
+  double encoder_yaw_noise_rad_per_sqrt_m = 0.03;
+};
+
+struct FrontendSettings {
+  int min_inliers = 3;  // no visual update with fewer (Section 3.3)
+  // Standing still (no visual update, Section 2.4): no tick and |yaw rate - bias| below this
+  // for standstill_window_s.
+  double standstill_rate_rad_s = 0.02;
+  double standstill_window_s = 0.5;
+};
+
+struct SourceSettings {
+  enum class Kind { kDrivers, kDataset, kLog };
+  Kind kind = Kind::kDrivers;
+  std::string path;       // dataset folder or log file
+  bool realtime = false;  // pace a dataset or log in real time instead of as fast as possible
+  std::string camera_device = "/dev/video0";
+  std::string can_interface = "can0";
+  std::string gpio_chip = "/dev/gpiochip0";
+  int lift_line = -1;  // GPIO line of the wheel-drop switch; -1: none
+};
+
+struct SinkSettings {
+  std::string tum_path;                // TUM trajectory file; empty: none
+  std::string diagnostics_path;        // per-update records (CSV); empty: none
+  bool can = false;                    // CAN pose frame through the driver
+  std::string can_interface = "can0";  // pose frames 0x201/0x202 of docs/can.md
+};
+
+struct FirmwareConfig {
+  hal::Calibration calibration;
+  bool calibration_from_dataset = true;  // a dataset source brings its own sensors.yaml
+  FilterSettings filter;
+  FrontendSettings frontend;
+  LoopOptions loop;
+  SourceSettings source;
+  SinkSettings sinks;
+  RecorderOptions recorder;
+};
+
+struct ConfigResult {
+  FirmwareConfig config;
+  std::vector<std::string> warnings;
+  std::vector<std::string> errors;  // each names the file, line and key
+  [[nodiscard]] bool ok() const { return errors.empty(); }
+};
+
+// Reads `path` (empty: all defaults), applies "key.sub=value" overrides, validates every key.
+ConfigResult load_config(const std::string& path, const std::vector<std::string>& overrides);
+// The same from a text (a recorded configuration).
+ConfigResult parse_config(const std::string& text, const std::string& file_name,
+                          const std::vector<std::string>& overrides);
+// Every key with its value, in a form parse_config() reads back to the same configuration.
+std::string config_text(const FirmwareConfig& config);
+
+}  // namespace cleanslam::firmware

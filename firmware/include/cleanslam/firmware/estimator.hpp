@@ -1,0 +1,43 @@
+#pragma once
+
+#include <array>
+
+#include "cleanslam/hal/frame.hpp"
+#include "cleanslam/hal/log_format.hpp"
+#include "cleanslam/hal/pose.hpp"
+#include "cleanslam/hal/samples.hpp"
+
+namespace cleanslam::firmware {
+
+struct LandmarkEstimate {
+  int slot = -1;
+  std::array<double, 3> position_m{};
+  std::array<double, 9> covariance{};  // row-major
+};
+
+// What the loop drives: dead reckoning, the EKF and the frame pipeline. The loop validates the
+// inputs first (finite, in order); an estimator sees only accepted samples.
+class Estimator {
+ public:
+  virtual ~Estimator() = default;
+  virtual void reset(hal::TimeNs t_ns) = 0;
+  virtual void add_gyro(const hal::GyroSample& s) = 0;
+  virtual void add_encoder(const hal::EncoderSample& s) = 0;
+  // Dead reckoning up to t_ns folded into the filter (prediction). gyro_ok false: the gyro is
+  // silent, heading comes from the encoders with inflated noise.
+  virtual void predict(hal::TimeNs t_ns, bool gyro_ok) = 0;
+  // A frame to process; it stays valid until step_frame() reports it finished.
+  virtual void begin_frame(const hal::CameraFrame& frame) = 0;
+  // Runs pipeline steps while `budget` (work units) lasts; true when the frame is finished.
+  virtual bool step_frame(int& budget) = 0;
+  // Per-observation records of the last finished frame.
+  virtual int update_records(const hal::log::UpdateRecord*& records) const = 0;
+  [[nodiscard]] virtual hal::PoseEstimate pose(hal::TimeNs t_ns) const = 0;
+  [[nodiscard]] virtual bool standing_still() const = 0;
+  // Odometry alone (encoders and gyro), for comparison.
+  [[nodiscard]] virtual hal::PoseEstimate dead_reckoning_pose(hal::TimeNs t_ns) const = 0;
+  // The map: fills at most `max` landmarks, returns how many.
+  virtual int landmarks(LandmarkEstimate* out, int max) const = 0;
+};
+
+}  // namespace cleanslam::firmware

@@ -1,0 +1,45 @@
+#pragma once
+
+#include <csignal>
+
+#include "cleanslam/firmware/clocks.hpp"
+#include "cleanslam/firmware/loop.hpp"
+#include "cleanslam/sim_hal/log_source.hpp"
+
+namespace cleanslam::firmware {
+
+// SIGTERM and SIGINT request a clean stop. While an instance lives the two signals are blocked
+// except inside the runners' waits (ppoll), so a stop is never lost between check and wait.
+class StopSignals {
+ public:
+  StopSignals();
+  ~StopSignals();
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+  [[nodiscard]] static bool requested();
+  static void reset();
+  [[nodiscard]] const sigset_t& wait_mask() const { return wait_mask_; }
+
+ private:
+  sigset_t old_mask_{};
+  sigset_t wait_mask_{};
+  struct sigaction old_term_ {};
+  struct sigaction old_int_ {};
+};
+
+enum class RunEnd { kStopped, kSourcesExhausted };
+
+// The robot: waits in ppoll() on the sources' descriptors until the next deadline, then iterates
+// on the monotonic clock.
+RunEnd run_live(Loop& loop, const hal::Clock& clock, const StopSignals& signals);
+
+// Datasets and logs on a virtual clock: the clock jumps to the next event or deadline. With
+// `realtime`, each jump waits for the same span of wall-clock time.
+RunEnd run_virtual(Loop& loop, VirtualClock& clock, bool realtime, const StopSignals* signals);
+
+// Bit-exact replay: iterates at the recorded iteration times, each with the events the recording
+// loop ingested in it.
+RunEnd run_recorded(Loop& loop, VirtualClock& clock, sim_hal::LogSource& log,
+                    const StopSignals* signals);
+
+}  // namespace cleanslam::firmware

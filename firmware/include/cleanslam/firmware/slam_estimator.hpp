@@ -1,0 +1,72 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "cleanslam/firmware/config.hpp"
+#include "cleanslam/firmware/estimator.hpp"
+#include "cleanslam/slam_core/dead_reckoner.hpp"
+#include "cleanslam/slam_core/ekf.hpp"
+#include "cleanslam/slam_core/frontend/jcbb.hpp"
+
+namespace cleanslam::firmware {
+
+// The paper's estimator on the loop: DeadReckoner -> Ekf.predict at every encoder sample and at
+// each frame's time; frames with pixel observations and track ids (features.csv) go through the
+// id -> landmark slot map: known ids are updated (JCBB over the joint pixel innovation, no update
+// with fewer than frontend.min_inliers, Section 3.5), unseen ids are initialized undelayed
+// (eq. 39-45). Nothing is fused while the robot stands still (Section 2.4). All storage is
+// allocated by the constructor.
+// Image-only frames (no features) need the front end's frame pipeline, which is not wired yet:
+// they are counted in image_frames_ignored() and leave the estimate to dead reckoning.
+class SlamEstimator final : public Estimator {
+ public:
+  explicit SlamEstimator(const FirmwareConfig& config);
+
+  void reset(hal::TimeNs t_ns) override;
+  void add_gyro(const hal::GyroSample& s) override;
+  void add_encoder(const hal::EncoderSample& s) override;
+  void predict(hal::TimeNs t_ns, bool gyro_ok) override;
+  void begin_frame(const hal::CameraFrame& frame) override;
+  bool step_frame(int& budget) override;
+  int update_records(const hal::log::UpdateRecord*& records) const override;
+  [[nodiscard]] hal::PoseEstimate pose(hal::TimeNs t_ns) const override;
+  [[nodiscard]] bool standing_still() const override;
+  [[nodiscard]] hal::PoseEstimate dead_reckoning_pose(hal::TimeNs t_ns) const override;
+  int landmarks(LandmarkEstimate* out, int max) const override;
+
+  [[nodiscard]] const slam_core::Ekf& ekf() const { return ekf_; }
+  [[nodiscard]] std::uint64_t image_frames_ignored() const { return image_frames_ignored_; }
+
+ private:
+  void process_features();
+  int slot_of(std::int64_t track_id) const;
+  void record(const hal::FeatureObservation& f, hal::log::UpdateStatus status, int slot);
+
+  FirmwareConfig config_;
+  slam_core::DeadReckoner dr_;
+  slam_core::Ekf ekf_;
+  slam_core::frontend::Jcbb jcbb_;
+  hal::TimeNs camera_offset_ns_ = 0;
+  hal::TimeNs predicted_to_ns_ = -1;
+  std::array<std::int64_t, hal::kMaxLandmarks> slot_owner_{};  // track id per slot, -1: free
+
+  hal::CameraFrame frame_;
+  bool frame_done_ = true;
+  std::array<hal::log::UpdateRecord, hal::kMaxFeaturesPerFrame> records_{};
+  int record_count_ = 0;
+  std::uint64_t image_frames_ignored_ = 0;
+
+  // Per-frame workspaces.
+  static constexpr int kMaxObs = hal::kMaxObservationsPerFrame;
+  std::array<slam_core::Observation, kMaxObs> obs_{};
+  std::array<int, kMaxObs> obs_feature_{};
+  std::array<slam_core::Observation, kMaxObs> inlier_obs_{};
+  std::array<int, kMaxObs> inlier_feature_{};
+  std::array<bool, kMaxObs> inlier_{};
+  std::array<double, 2 * kMaxObs> nu_{};
+  std::array<double, 4 * kMaxObs * kMaxObs> S_{};
+  std::array<int, hal::kMaxFeaturesPerFrame> new_feature_{};
+};
+
+}  // namespace cleanslam::firmware

@@ -1,0 +1,373 @@
+#include "cleanslam/firmware/config.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "cleanslam/hal/capacities.hpp"
+#include "cleanslam/sim_hal/dataset.hpp"
+#include "cleanslam/sim_hal/yaml_document.hpp"
+
+namespace cleanslam::firmware {
+
+namespace yaml = sim_hal::yaml;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Typed reading with ranges: errors name the file, line and dotted key.
+class Section {
+ public:
+  Section(yaml::MappingReader reader, yaml::Diagnostics& d) : m_(std::move(reader)), d_(d) {}
+
+  double number(const char* key, double fallback, double lo, double hi, bool lo_open = false) {
+    const double v = m_.optional_double(key, fallback);
+    if (m_.has(key) && (v < lo || v > hi || (lo_open && v <= lo))) {
+      std::ostringstream s;
+      s << where(key) << ": " << v << " is out of range " << (lo_open ? "(" : "[") << lo << ", "
+        << hi << "]";
+      d_.errors.push_back(s.str());
+      return fallback;
+    }
+    return v;
+  }
+  int integer(const char* key, int fallback, std::int64_t lo, std::int64_t hi) {
+    const std::int64_t v = m_.optional_int(key, fallback);
+    if (m_.has(key) && (v < lo || v > hi)) {
+      d_.errors.push_back(where(key) + ": " + std::to_string(v) + " is out of range [" +
+                          std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      return fallback;
+    }
+    return static_cast<int>(v);
+  }
+  std::string text(const char* key, const std::string& fallback) {
+    return m_.optional_string(key, fallback);
+  }
+  bool flag(const char* key, bool fallback) { return m_.optional_bool(key, fallback); }
+  template <std::size_t N>
+  void numbers(const char* key, std::array<double, N>& out) {
+    const auto v = m_.optional_doubles(key, std::vector<double>(out.begin(), out.end()), N);
+    if (v.size() == N) {
+      std::copy(v.begin(), v.end(), out.begin());
+    }
+  }
+  Section sub(const char* key) { return Section(m_.optional_mapping(key), d_); }
+  [[nodiscard]] bool has(const char* key) const { return m_.has(key); }
+  void error(const char* key, const std::string& message) {
+    d_.errors.push_back(where(key) + ": " + message);
+  }
+  void done() { m_.report_unknown_keys(); }
+
+ private:
+  std::string where(const char* key) {
+    const yaml::Node* n = m_.node(key);
+    return (n != nullptr ? n->location.str() + ": " : std::string()) + m_.path(key);
+  }
+  yaml::MappingReader m_;
+  yaml::Diagnostics& d_;
+};
+
+hal::TimeNs seconds(double s) {
+  return static_cast<hal::TimeNs>(std::llround(s * 1e9));
+}
+
+void read_calibration(Section c, hal::Calibration& cal) {
+  {
+    Section cam = c.sub("camera");
+    cal.camera.width = cam.integer("width", cal.camera.width, 1, hal::kImageWidth);
+    cal.camera.height = cam.integer("height", cal.camera.height, 1, hal::kImageHeight);
+    cal.camera.fx = cam.number("fx", cal.camera.fx, 0.0, 1e5, true);
+    cal.camera.fy = cam.number("fy", cal.camera.fy, 0.0, 1e5, true);
+    cal.camera.cx = cam.number("cx", cal.camera.cx, -1e4, 1e4);
+    cal.camera.cy = cam.number("cy", cal.camera.cy, -1e4, 1e4);
+    cam.numbers("distortion", cal.camera.distortion);
+    cam.numbers("T_body_cam", cal.camera.T_body_cam);
+    cal.camera.pixel_noise = cam.number("pixel_noise", cal.camera.pixel_noise, 0.0, 100.0, true);
+    cal.camera.time_offset_s = cam.number("time_offset_s", cal.camera.time_offset_s, -1.0, 1.0);
+    cam.done();
+  }
+  {
+    Section w = c.sub("wheels");
+    auto& wh = cal.wheels;
+    wh.ticks_per_meter_left =
+        w.number("ticks_per_meter_left", wh.ticks_per_meter_left, 0, 1e7, true);
+    wh.ticks_per_meter_right =
+        w.number("ticks_per_meter_right", wh.ticks_per_meter_right, 0, 1e7, true);
+    wh.wheel_base = w.number("wheel_base", wh.wheel_base, 0.0, 10.0, true);
+    wh.distance_noise = w.number("distance_noise", wh.distance_noise, 0.0, 1.0);
+    w.done();
+  }
+  {
+    Section g = c.sub("gyro");
+    cal.gyro.noise_density = g.number("noise_density", cal.gyro.noise_density, 0.0, 1.0, true);
+    cal.gyro.bias_instability = g.number("bias_instability", cal.gyro.bias_instability, 0.0, 1.0);
+    g.done();
+  }
+  c.done();
+}
+
+void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg) {
+  Section top(yaml::MappingReader(root, "", d), d);
+  cfg.calibration_from_dataset = top.flag("calibration_from_dataset", cfg.calibration_from_dataset);
+  read_calibration(top.sub("calibration"), cfg.calibration);
+  {
+    Section f = top.sub("filter");
+    auto& x = cfg.filter;
+    x.eps_ct_m = f.number("eps_ct_m", x.eps_ct_m, 1.0, 1e4);
+    x.assumed_depth_m = f.number("assumed_depth_m", x.assumed_depth_m, 0.1, 1e3);
+    x.eps_trk_px = f.number("eps_trk_px", x.eps_trk_px, 0.0, 100.0, true);
+    x.eps_cal_px = f.number("eps_cal_px", x.eps_cal_px, 0.0, 100.0);
+    x.gate_chi2 = f.number("gate_chi2", x.gate_chi2, 0.0, 1e6, true);
+    x.max_landmarks = f.integer("max_landmarks", x.max_landmarks, 1, hal::kMaxLandmarks);
+    x.encoder_yaw_noise_rad_per_sqrt_m = f.number(
+        "encoder_yaw_noise_rad_per_sqrt_m", x.encoder_yaw_noise_rad_per_sqrt_m, 0.0, 10.0, true);
+    f.done();
+  }
+  {
+    Section f = top.sub("frontend");
+    auto& x = cfg.frontend;
+    x.min_inliers = f.integer("min_inliers", x.min_inliers, 1, hal::kMaxObservationsPerFrame);
+    x.standstill_rate_rad_s = f.number("standstill_rate_rad_s", x.standstill_rate_rad_s, 0.0, 1.0);
+    x.standstill_window_s = f.number("standstill_window_s", x.standstill_window_s, 0.05, 10.0);
+    f.done();
+  }
+  {
+    Section l = top.sub("loop");
+    auto& x = cfg.loop;
+    x.frame_rate_hz = l.number("frame_rate_hz", x.frame_rate_hz, 0.1, 30.0);
+    x.publish_rate_hz = l.number("publish_rate_hz", x.publish_rate_hz, 1.0, 200.0);
+    x.gyro_timeout_ns = seconds(l.number("gyro_timeout_s", 0.1, 0.001, 10.0));
+    x.encoder_timeout_ns = seconds(l.number("encoder_timeout_s", 0.25, 0.001, 10.0));
+    x.camera_timeout_ns = seconds(l.number("camera_timeout_s", 3.0, 0.01, 60.0));
+    x.max_time_skew_ns = seconds(l.number("max_time_skew_s", 1.0, 0.001, 60.0));
+    x.frame_work_budget = l.integer("frame_work_budget", x.frame_work_budget, 1, 1 << 20);
+    l.done();
+  }
+  {
+    Section s = top.sub("source");
+    auto& x = cfg.source;
+    const std::string kind = s.text("kind", "drivers");
+    if (kind == "drivers") {
+      x.kind = SourceSettings::Kind::kDrivers;
+    } else if (kind == "dataset") {
+      x.kind = SourceSettings::Kind::kDataset;
+    } else if (kind == "log") {
+      x.kind = SourceSettings::Kind::kLog;
+    } else {
+      s.error("kind", "\"" + kind + "\" is not one of drivers, dataset, log");
+    }
+    x.path = s.text("path", x.path);
+    if (x.kind != SourceSettings::Kind::kDrivers && x.path.empty()) {
+      s.error("path", "a " + kind + " source needs a path");
+    }
+    x.realtime = s.flag("realtime", x.realtime);
+    x.camera_device = s.text("camera_device", x.camera_device);
+    x.can_interface = s.text("can_interface", x.can_interface);
+    x.gpio_chip = s.text("gpio_chip", x.gpio_chip);
+    x.lift_line = s.integer("lift_line", x.lift_line, -1, 1023);
+    s.done();
+  }
+  {
+    Section s = top.sub("sinks");
+    auto& x = cfg.sinks;
+    x.tum_path = s.text("tum", x.tum_path);
+    x.diagnostics_path = s.text("diagnostics", x.diagnostics_path);
+    x.can = s.flag("can", x.can);
+    x.can_interface = s.text("can_interface", x.can_interface);
+    s.done();
+  }
+  {
+    Section r = top.sub("recorder");
+    auto& x = cfg.recorder;
+    x.path = r.text("path", x.path);
+    x.max_file_bytes = static_cast<std::size_t>(
+        r.number("max_file_mb", static_cast<double>(x.max_file_bytes >> 20), 1.0, 1e5) * 1048576.0);
+    x.max_files = r.integer("max_files", x.max_files, 1, 1000);
+    x.frame_every = r.integer("frame_every", x.frame_every, 0, 1000000);
+    x.buffer_bytes = static_cast<std::size_t>(r.integer(
+                         "buffer_kb", static_cast<int>(x.buffer_bytes >> 10), 128, 1 << 20))
+                     << 10;
+    x.write_chunk_bytes =
+        static_cast<std::size_t>(
+            r.integer("write_chunk_kb", static_cast<int>(x.write_chunk_bytes >> 10), 1, 1 << 20))
+        << 10;
+    r.done();
+  }
+  top.done();
+}
+
+// "a.b.c=value": sets the node at a.b.c (creating mappings on the way) to the parsed value.
+bool apply_override(yaml::Node& root, const std::string& item, std::vector<std::string>& errors) {
+  const auto eq = item.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    errors.push_back("--set " + item + ": expected key=value");
+    return false;
+  }
+  const std::string key = item.substr(0, eq);
+  const std::string origin = "--set " + key;
+  auto value = yaml::parse_string(item.substr(eq + 1), origin);
+  if (!value.ok()) {
+    errors.push_back(value.error());
+    return false;
+  }
+  if (value->is_null()) {
+    value->kind = yaml::Node::Kind::kScalar;  // "key=" sets an empty string
+    value->location.file = std::make_shared<const std::string>(origin);
+    value->location.line = 1;
+  }
+  yaml::Node* node = &root;
+  std::size_t start = 0;
+  while (true) {
+    const auto dot = key.find('.', start);
+    const std::string part = key.substr(start, dot == std::string::npos ? dot : dot - start);
+    if (part.empty()) {
+      errors.push_back(origin + ": empty key component");
+      return false;
+    }
+    if (node->is_null()) {
+      node->kind = yaml::Node::Kind::kMapping;
+      node->location = value->location;
+    }
+    if (!node->is_mapping()) {
+      errors.push_back(origin + ": " + key.substr(0, start - 1) + " is not a mapping");
+      return false;
+    }
+    yaml::Node::Entry* entry = nullptr;
+    for (auto& e : node->entries) {
+      if (e.key == part) {
+        entry = &e;
+      }
+    }
+    if (entry == nullptr) {
+      node->entries.push_back(yaml::Node::Entry{part, value->location, yaml::Node{}});
+      entry = &node->entries.back();
+    }
+    if (dot == std::string::npos) {
+      entry->value = *value;
+      return true;
+    }
+    node = &entry->value;
+    start = dot + 1;
+  }
+}
+
+ConfigResult finish(yaml::Node root, const std::vector<std::string>& overrides) {
+  ConfigResult result;
+  for (const auto& o : overrides) {
+    apply_override(root, o, result.errors);
+  }
+  if (!result.ok()) {
+    return result;
+  }
+  yaml::Diagnostics d;
+  if (!root.is_null()) {
+    read_all(root, d, result.config);
+  }
+  result.errors.insert(result.errors.end(), d.errors.begin(), d.errors.end());
+  result.warnings.insert(result.warnings.end(), d.warnings.begin(), d.warnings.end());
+  return result;
+}
+
+std::string fmt(double v) {
+  return sim_hal::format_double(v);
+}
+
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+ConfigResult parse_config(const std::string& text, const std::string& file_name,
+                          const std::vector<std::string>& overrides) {
+  auto doc = yaml::parse_string(text, file_name);
+  if (!doc.ok()) {
+    ConfigResult r;
+    r.errors.push_back(doc.error());
+    return r;
+  }
+  return finish(std::move(doc.value()), overrides);
+}
+
+ConfigResult load_config(const std::string& path, const std::vector<std::string>& overrides) {
+  if (path.empty()) {
+    return finish(yaml::Node{}, overrides);
+  }
+  auto doc = yaml::parse_file(path);
+  if (!doc.ok()) {
+    ConfigResult r;
+    r.errors.push_back(doc.error());
+    return r;
+  }
+  return finish(std::move(doc.value()), overrides);
+}
+
+std::string config_text(const FirmwareConfig& c) {
+  std::ostringstream s;
+  const auto secs = [](hal::TimeNs ns) { return fmt(static_cast<double>(ns) * 1e-9); };
+  s << "calibration_from_dataset: " << (c.calibration_from_dataset ? "true" : "false") << "\n";
+  s << "calibration:\n";
+  std::istringstream cal(sim_hal::sensors_yaml_text(c.calibration));
+  for (std::string line; std::getline(cal, line);) {
+    s << "  " << line << "\n";
+  }
+  const auto& f = c.filter;
+  s << "filter:\n"
+    << "  eps_ct_m: " << fmt(f.eps_ct_m) << "\n"
+    << "  assumed_depth_m: " << fmt(f.assumed_depth_m) << "\n"
+    << "  eps_trk_px: " << fmt(f.eps_trk_px) << "\n"
+    << "  eps_cal_px: " << fmt(f.eps_cal_px) << "\n"
+    << "  gate_chi2: " << fmt(f.gate_chi2) << "\n"
+    << "  max_landmarks: " << f.max_landmarks << "\n"
+    << "  encoder_yaw_noise_rad_per_sqrt_m: " << fmt(f.encoder_yaw_noise_rad_per_sqrt_m) << "\n";
+  s << "frontend:\n"
+    << "  min_inliers: " << c.frontend.min_inliers << "\n"
+    << "  standstill_rate_rad_s: " << fmt(c.frontend.standstill_rate_rad_s) << "\n"
+    << "  standstill_window_s: " << fmt(c.frontend.standstill_window_s) << "\n";
+  const auto& l = c.loop;
+  s << "loop:\n"
+    << "  frame_rate_hz: " << fmt(l.frame_rate_hz) << "\n"
+    << "  publish_rate_hz: " << fmt(l.publish_rate_hz) << "\n"
+    << "  gyro_timeout_s: " << secs(l.gyro_timeout_ns) << "\n"
+    << "  encoder_timeout_s: " << secs(l.encoder_timeout_ns) << "\n"
+    << "  camera_timeout_s: " << secs(l.camera_timeout_ns) << "\n"
+    << "  max_time_skew_s: " << secs(l.max_time_skew_ns) << "\n"
+    << "  frame_work_budget: " << l.frame_work_budget << "\n";
+  const auto& so = c.source;
+  const char* kind = so.kind == SourceSettings::Kind::kDrivers   ? "drivers"
+                     : so.kind == SourceSettings::Kind::kDataset ? "dataset"
+                                                                 : "log";
+  s << "source:\n"
+    << "  kind: " << kind << "\n"
+    << "  path: " << quoted(so.path) << "\n"
+    << "  realtime: " << (so.realtime ? "true" : "false") << "\n"
+    << "  camera_device: " << quoted(so.camera_device) << "\n"
+    << "  can_interface: " << quoted(so.can_interface) << "\n"
+    << "  gpio_chip: " << quoted(so.gpio_chip) << "\n"
+    << "  lift_line: " << so.lift_line << "\n";
+  const auto& k = c.sinks;
+  s << "sinks:\n"
+    << "  tum: " << quoted(k.tum_path) << "\n"
+    << "  diagnostics: " << quoted(k.diagnostics_path) << "\n"
+    << "  can: " << (k.can ? "true" : "false") << "\n"
+    << "  can_interface: " << quoted(k.can_interface) << "\n";
+  const auto& r = c.recorder;
+  s << "recorder:\n"
+    << "  path: " << quoted(r.path) << "\n"
+    << "  max_file_mb: " << fmt(static_cast<double>(r.max_file_bytes) / 1048576.0) << "\n"
+    << "  max_files: " << r.max_files << "\n"
+    << "  frame_every: " << r.frame_every << "\n"
+    << "  buffer_kb: " << (r.buffer_bytes >> 10) << "\n"
+    << "  write_chunk_kb: " << (r.write_chunk_bytes >> 10) << "\n";
+  return s.str();
+}
+
+}  // namespace cleanslam::firmware

@@ -1,0 +1,394 @@
+#include "cleanslam/firmware/program.hpp"
+
+#include <array>
+#include <cstring>
+#include <optional>
+
+#include "cleanslam/drivers/robot_drivers.hpp"
+#include "cleanslam/firmware/clocks.hpp"
+#include "cleanslam/firmware/recorder.hpp"
+#include "cleanslam/firmware/replay_check.hpp"
+#include "cleanslam/firmware/run.hpp"
+#include "cleanslam/firmware/sinks.hpp"
+#include "cleanslam/firmware/systemd_notifier.hpp"
+#include "cleanslam/sim_hal/dataset_source.hpp"
+#include "cleanslam/sim_hal/log_source.hpp"
+
+namespace cleanslam::firmware {
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: cleanslam [--config FILE] [--set key=value ...]\n"
+    "                 [--dataset DIR | --log LOG] [--realtime] [--record LOG] [--tum FILE]\n"
+    "       cleanslam --replay LOG [--replay-out FILE]\n"
+    "       cleanslam --version | --help\n"
+    "Runs the localization loop on the robot's drivers, a dataset folder or a recorded log.\n"
+    "--replay feeds a recorded log back through the loop at its recorded iterations and checks\n"
+    "that the outputs are reproduced bit for bit (exit 0), else names the first difference\n"
+    "(exit 1). --dataset/--log/--realtime/--record/--tum are shorthands for --set source.kind=,\n"
+    "source.path=, source.realtime=true, recorder.path=, sinks.tum=.\n";
+
+struct Args {
+  std::string config_path;
+  std::vector<std::string> sets;
+  std::string replay_log;
+  std::string replay_out;
+  bool help = false;
+  bool version = false;
+};
+
+std::optional<Args> parse_args(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const auto value = [&](const char* name) -> const char* {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "cleanslam: %s needs a value\n", name);
+        return nullptr;
+      }
+      return argv[++i];
+    };
+    const char* v = nullptr;
+    if (arg == "--help" || arg == "-h") {
+      a.help = true;
+    } else if (arg == "--version") {
+      a.version = true;
+    } else if (arg == "--realtime") {
+      a.sets.emplace_back("source.realtime=true");
+    } else if (arg == "--config" || arg == "--set" || arg == "--replay" || arg == "--replay-out" ||
+               arg == "--dataset" || arg == "--log" || arg == "--record" || arg == "--tum") {
+      if ((v = value(arg.c_str())) == nullptr) {
+        return std::nullopt;
+      }
+      if (arg == "--config") {
+        a.config_path = v;
+      } else if (arg == "--set") {
+        a.sets.emplace_back(v);
+      } else if (arg == "--replay") {
+        a.replay_log = v;
+      } else if (arg == "--replay-out") {
+        a.replay_out = v;
+      } else if (arg == "--dataset") {
+        a.sets.emplace_back("source.kind=dataset");
+        a.sets.emplace_back(std::string("source.path=\"") + v + "\"");
+      } else if (arg == "--log") {
+        a.sets.emplace_back("source.kind=log");
+        a.sets.emplace_back(std::string("source.path=\"") + v + "\"");
+      } else if (arg == "--record") {
+        a.sets.emplace_back(std::string("recorder.path=\"") + v + "\"");
+      } else {
+        a.sets.emplace_back(std::string("sinks.tum=\"") + v + "\"");
+      }
+    } else {
+      std::fprintf(stderr, "cleanslam: unknown argument %s\n%s", arg.c_str(), kUsage);
+      return std::nullopt;
+    }
+  }
+  return a;
+}
+
+void print_messages(const ConfigResult& r) {
+  for (const auto& w : r.warnings) {
+    std::fprintf(stderr, "cleanslam: warning: %s\n", w.c_str());
+  }
+  for (const auto& e : r.errors) {
+    std::fprintf(stderr, "cleanslam: error: %s\n", e.c_str());
+  }
+}
+
+class StderrHealth final : public HealthObserver {
+ public:
+  void health_changed(std::int64_t t_ns, std::uint32_t before, std::uint32_t after) override {
+    static constexpr std::array<std::pair<std::uint32_t, const char*>, 6> kNames{{
+        {hal::kGyroSilent, "gyro silent (heading from encoders)"},
+        {hal::kEncodersSilent, "encoders silent (no prediction)"},
+        {hal::kCameraSilent, "camera silent (dead reckoning only)"},
+        {hal::kStandingStill, "standing still"},
+        {hal::kLifted, "lifted"},
+        {hal::kPoseLost, "pose lost"},
+    }};
+    for (const auto& [bit, name] : kNames) {
+      if (bit == hal::kStandingStill) {
+        continue;  // too frequent to report
+      }
+      if ((after & bit) != 0 && (before & bit) == 0) {
+        std::fprintf(stderr, "cleanslam: t=%.3f s: %s\n", hal::to_seconds(t_ns), name);
+      } else if ((after & bit) == 0 && (before & bit) != 0) {
+        std::fprintf(stderr, "cleanslam: t=%.3f s: recovered: %s\n", hal::to_seconds(t_ns), name);
+      }
+    }
+  }
+};
+
+void report_log_defects(const sim_hal::LogReader& reader, Loop* loop) {
+  if (reader.total_defects() == 0) {
+    return;
+  }
+  for (int d = 0; d < static_cast<int>(sim_hal::LogDefect::kCount); ++d) {
+    const auto defect = static_cast<sim_hal::LogDefect>(d);
+    if (reader.defects(defect) > 0) {
+      std::fprintf(stderr, "cleanslam: warning: %s: %llu %s record(s) skipped\n",
+                   reader.name().c_str(), static_cast<unsigned long long>(reader.defects(defect)),
+                   sim_hal::to_string(defect));
+    }
+  }
+  if (reader.defects(sim_hal::LogDefect::kTruncated) > 0) {
+    std::fprintf(stderr,
+                 "cleanslam: warning: %s is truncated at byte %zu: replaying up to its last whole "
+                 "record\n",
+                 reader.name().c_str(), reader.truncated_at());
+  }
+  if (loop != nullptr) {
+    loop->count(Reject::kCorruptRecord, reader.total_defects());
+  }
+}
+
+int run_replay(const Args& args) {
+  sim_hal::LogReader original;
+  if (!original.open(args.replay_log)) {
+    std::fprintf(stderr, "cleanslam: error: %s\n", original.error().c_str());
+    return 2;
+  }
+  if (!original.has_config()) {
+    std::fprintf(stderr, "cleanslam: error: %s: no configuration record: cannot replay\n",
+                 args.replay_log.c_str());
+    return 2;
+  }
+  if (!args.sets.empty() || !args.config_path.empty()) {
+    std::fprintf(stderr,
+                 "cleanslam: warning: --replay uses the log's recorded configuration; --config and "
+                 "--set are ignored\n");
+  }
+  const ConfigResult cfg =
+      parse_config(std::string(original.config_text()), args.replay_log + ":config", {});
+  print_messages(cfg);
+  if (!cfg.ok()) {
+    return 2;
+  }
+  if (cfg.config.recorder.frame_every != 1) {
+    std::fprintf(stderr,
+                 "cleanslam: warning: the log kept every %d-th frame only: outputs cannot be "
+                 "reproduced\n",
+                 cfg.config.recorder.frame_every);
+  }
+  report_log_defects(original, nullptr);
+  const std::unique_ptr<Estimator> estimator = make_estimator(cfg.config);
+  Loop loop(cfg.config.loop, *estimator);
+  sim_hal::LogSource source(original, sim_hal::LogSource::Pacing::kRecordedTicks);
+  loop.add_source(&source);
+  Recorder recorder;
+  RecorderOptions ro = cfg.config.recorder;
+  ro.path = args.replay_out.empty() ? args.replay_log + ".replay" : args.replay_out;
+  ro.max_file_bytes = std::size_t{1} << 40;  // one file, whatever the original's rotation
+  ro.frame_every = 1;
+  std::string error;
+  if (!recorder.open(ro, original.config_text(), error)) {
+    std::fprintf(stderr, "cleanslam: error: %s\n", error.c_str());
+    return 2;
+  }
+  loop.set_recorder(&recorder);
+  VirtualClock clock;
+  StopSignals signals;
+  run_recorded(loop, clock, source, &signals);
+  recorder.close();
+  sim_hal::LogReader replayed;
+  if (!replayed.open(ro.path)) {
+    std::fprintf(stderr, "cleanslam: error: %s\n", replayed.error().c_str());
+    return 2;
+  }
+  const bool truncated = original.defects(sim_hal::LogDefect::kTruncated) > 0;
+  const OutputComparison c = compare_outputs(original, replayed, truncated);
+  if (c.identical) {
+    std::fprintf(stderr, "cleanslam: replay of %s: %zu output records reproduced bit for bit%s\n",
+                 args.replay_log.c_str(), c.original_outputs,
+                 truncated ? " (up to the truncation)" : "");
+    return 0;
+  }
+  std::fprintf(stderr, "cleanslam: replay of %s differs: %s\n", args.replay_log.c_str(),
+               c.description.c_str());
+  return 1;
+}
+
+int run_normal(const Args& args) {
+  ConfigResult cfg = load_config(args.config_path, args.sets);
+  print_messages(cfg);
+  if (!cfg.ok()) {
+    return 2;
+  }
+  FirmwareConfig config = cfg.config;
+  std::unique_ptr<hal::SensorSource> source;
+  std::optional<sim_hal::LogReader> log;
+  std::unique_ptr<drivers::RobotDrivers> robot;
+  switch (config.source.kind) {
+    case SourceSettings::Kind::kDataset: {
+      auto ds = sim_hal::DatasetSource::open(config.source.path);
+      if (!ds.ok()) {
+        std::fprintf(stderr, "cleanslam: error: %s\n", ds.error().c_str());
+        return 2;
+      }
+      for (const auto& w : ds->warnings()) {
+        std::fprintf(stderr, "cleanslam: warning: %s\n", w.c_str());
+      }
+      if (config.calibration_from_dataset) {
+        config.calibration = ds->calibration();
+      }
+      source = std::make_unique<sim_hal::DatasetSource>(std::move(ds.value()));
+      break;
+    }
+    case SourceSettings::Kind::kLog: {
+      log.emplace();
+      if (!log->open(config.source.path)) {
+        std::fprintf(stderr, "cleanslam: error: %s\n", log->error().c_str());
+        return 2;
+      }
+      if (log->has_config()) {
+        const ConfigResult recorded = parse_config(std::string(log->config_text()), "", {});
+        if (recorded.ok()) {
+          config.calibration = recorded.config.calibration;
+        }
+      }
+      source = std::make_unique<sim_hal::LogSource>(*log, sim_hal::LogSource::Pacing::kEventTime);
+      break;
+    }
+    case SourceSettings::Kind::kDrivers: {
+      drivers::RobotDriversConfig dc;
+      dc.can.interface = config.source.can_interface;
+      dc.camera.device = config.source.camera_device;
+      dc.camera.rate_hz = config.loop.frame_rate_hz;
+      if (config.source.lift_line >= 0) {
+        dc.lift.gpio.chip = config.source.gpio_chip;
+        dc.lift.gpio.line = std::to_string(config.source.lift_line);
+      }
+      dc.pose_interface = config.sinks.can ? config.sinks.can_interface : std::string();
+      robot = std::make_unique<drivers::RobotDrivers>(dc);
+      break;
+    }
+  }
+  const std::unique_ptr<Estimator> estimator = make_estimator(config);
+  Loop loop(config.loop, *estimator);
+  if (robot) {
+    for (int i = 0; i < robot->source_count(); ++i) {
+      loop.add_source(robot->sources()[i]);
+    }
+    if (robot->pose_sink() != nullptr) {
+      loop.add_pose_sink(robot->pose_sink());
+    }
+  } else {
+    loop.add_source(source.get());
+  }
+  if (log) {
+    report_log_defects(*log, &loop);
+  }
+  std::string error;
+  TumWriter tum;
+  if (!config.sinks.tum_path.empty()) {
+    if (!tum.open(config.sinks.tum_path, false, true, error)) {
+      std::fprintf(stderr, "cleanslam: error: %s\n", error.c_str());
+      return 2;
+    }
+    loop.add_pose_sink(&tum);
+  }
+  DiagnosticsCsv diagnostics;
+  if (!config.sinks.diagnostics_path.empty()) {
+    if (!diagnostics.open(config.sinks.diagnostics_path, error)) {
+      std::fprintf(stderr, "cleanslam: error: %s\n", error.c_str());
+      return 2;
+    }
+    loop.add_update_sink(&diagnostics);
+  }
+  if (config.sinks.can && !robot) {
+    std::fprintf(stderr,
+                 "cleanslam: warning: sinks.can: the CAN pose sink needs source.kind: drivers; "
+                 "ignored\n");
+  }
+  Recorder recorder;
+  if (!config.recorder.path.empty()) {
+    if (!recorder.open(config.recorder, config_text(config), error)) {
+      std::fprintf(stderr, "cleanslam: error: %s\n", error.c_str());
+      return 2;
+    }
+    loop.set_recorder(&recorder);
+  }
+  SystemdNotifier notifier;
+  if (notifier.active()) {
+    loop.set_notifier(&notifier);
+  }
+  StderrHealth health;
+  loop.set_health_observer(&health);
+  StopSignals signals;
+  RunEnd end = RunEnd::kStopped;
+  if (robot) {
+    MonotonicClock clock;
+    end = run_live(loop, clock, signals);
+  } else {
+    VirtualClock clock;
+    end = run_virtual(loop, clock, config.source.realtime, &signals);
+  }
+  recorder.close();
+  print_summary(loop, stderr);
+  if (end == RunEnd::kStopped) {
+    std::fprintf(stderr, "cleanslam: stopped by signal, outputs flushed\n");
+  }
+  return 0;
+}
+
+}  // namespace
+
+void print_summary(const Loop& loop, std::FILE* out) {
+  const LoopStats& s = loop.stats();
+  std::fprintf(
+      out,
+      "cleanslam: %llu iterations, %llu gyro, %llu encoder samples, %llu frames in, %llu "
+      "processed, %llu predictions, %llu poses, %llu update records\n",
+      static_cast<unsigned long long>(s.iterations), static_cast<unsigned long long>(s.gyro),
+      static_cast<unsigned long long>(s.encoders), static_cast<unsigned long long>(s.frames_in),
+      static_cast<unsigned long long>(s.frames_done),
+      static_cast<unsigned long long>(s.predictions), static_cast<unsigned long long>(s.poses),
+      static_cast<unsigned long long>(s.update_records));
+  for (std::size_t i = 0; i < kRejectCount; ++i) {
+    if (s.rejects.n[i] > 0) {
+      std::fprintf(out, "cleanslam: rejected %s: %llu\n", to_string(static_cast<Reject>(i)),
+                   static_cast<unsigned long long>(s.rejects.n[i]));
+    }
+  }
+}
+
+bool write_landmarks_csv(const Estimator& estimator, const std::string& path, std::string& error) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) {
+    error = path + ": cannot create: " + std::strerror(errno);
+    return false;
+  }
+  std::array<LandmarkEstimate, hal::kMaxLandmarks> lm{};
+  const int n = estimator.landmarks(lm.data(), static_cast<int>(lm.size()));
+  std::fputs("#slot,x,y,z,sxx,sxy,sxz,syy,syz,szz\n", f);
+  for (int i = 0; i < n; ++i) {
+    const auto& l = lm[static_cast<std::size_t>(i)];
+    const auto& c = l.covariance;
+    std::fprintf(f, "%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", l.slot, l.position_m[0],
+                 l.position_m[1], l.position_m[2], c[0], c[1], c[2], c[4], c[5], c[8]);
+  }
+  return std::fclose(f) == 0;
+}
+
+int program_main(int argc, char** argv) {
+  const auto args = parse_args(argc, argv);
+  if (!args) {
+    return 2;
+  }
+  if (args->help) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (args->version) {
+    std::printf("cleanslam 0.1.0\n");
+    return 0;
+  }
+  if (!args->replay_log.empty()) {
+    return run_replay(*args);
+  }
+  return run_normal(*args);
+}
+
+}  // namespace cleanslam::firmware

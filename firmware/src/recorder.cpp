@@ -1,0 +1,208 @@
+#include "cleanslam/firmware/recorder.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+namespace cleanslam::firmware {
+
+namespace lf = hal::log;
+
+Recorder::~Recorder() {
+  close();
+}
+
+bool Recorder::open(const RecorderOptions& options, std::string_view config_text,
+                    std::string& error) {
+  close();
+  options_ = options;
+  if (options_.max_files < 1) {
+    options_.max_files = 1;
+  }
+  config_text_ = std::string(config_text);
+  if (config_text_.size() + 8 > lf::kMaxPayload) {
+    error = options_.path + ": configuration too large to record";
+    return false;
+  }
+  names_.clear();
+  names_.push_back(options_.path);
+  for (int i = 1; i < options_.max_files; ++i) {
+    names_.push_back(options_.path + "." + std::to_string(i));
+  }
+  ring_.assign(std::max<std::size_t>(options_.buffer_bytes, 128U << 10), 0);
+  scratch_.assign(lf::kMaxPayload + lf::kRecordHeaderSize, 0);
+  head_ = 0;
+  size_ = 0;
+  frames_seen_ = 0;
+  stats_ = RecorderStats{};
+  if (!open_file()) {
+    error = options_.path + ": cannot create the log: " + std::strerror(errno);
+    return false;
+  }
+  return true;
+}
+
+bool Recorder::open_file() {
+  fd_ = ::open(names_[0].c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) {
+    return false;
+  }
+  file_bytes_ = 0;
+  const bool was_rotating = rotating_;
+  rotating_ = true;
+  std::uint8_t header[lf::kFileHeaderSize];
+  lf::ByteWriter w(header, sizeof header);
+  lf::write_file_header(w);
+  push(header, w.size());
+  file_bytes_ += w.size();
+  const std::uint64_t hash = lf::fnv1a64(config_text_.data(), config_text_.size());
+  append(lf::RecordType::kConfig, 8 + config_text_.size(), [&](lf::ByteWriter& pw) {
+    pw.u64(hash);
+    pw.bytes(config_text_.data(), config_text_.size());
+  });
+  header_bytes_ = file_bytes_;
+  rotating_ = was_rotating;
+  return true;
+}
+
+void Recorder::push(const std::uint8_t* data, std::size_t n) {
+  std::size_t tail = (head_ + size_) % ring_.size();
+  const std::size_t first = std::min(n, ring_.size() - tail);
+  std::memcpy(ring_.data() + tail, data, first);
+  std::memcpy(ring_.data(), data + first, n - first);
+  size_ += n;
+}
+
+template <typename Encode>
+void Recorder::append(lf::RecordType type, std::size_t payload_size, const Encode& encode) {
+  if (fd_ < 0) {
+    return;
+  }
+  const std::size_t total = lf::kRecordHeaderSize + payload_size;
+  if (payload_size > lf::kMaxPayload || total > ring_.size()) {
+    ++stats_.dropped_buffer_full;
+    return;
+  }
+  if (!rotating_ && file_bytes_ > header_bytes_ && file_bytes_ + total > options_.max_file_bytes) {
+    rotate();
+    if (fd_ < 0) {
+      return;
+    }
+  }
+  if (ring_.size() - size_ < total) {
+    write_some();
+    if (ring_.size() - size_ < total) {
+      ++stats_.dropped_buffer_full;
+      return;
+    }
+  }
+  lf::ByteWriter w(scratch_.data() + lf::kRecordHeaderSize, payload_size);
+  encode(w);
+  lf::seal_record(scratch_.data(), type, static_cast<std::uint32_t>(payload_size));
+  push(scratch_.data(), total);
+  file_bytes_ += total;
+  ++stats_.records;
+}
+
+void Recorder::clock(hal::TimeNs now) {
+  append(lf::RecordType::kClock, 8, [&](lf::ByteWriter& w) { w.i64(now); });
+}
+void Recorder::gyro(const hal::GyroSample& s) {
+  append(lf::RecordType::kGyro, lf::kGyroPayload, [&](lf::ByteWriter& w) { lf::encode(w, s); });
+}
+void Recorder::encoder(const hal::EncoderSample& s) {
+  append(lf::RecordType::kEncoder, lf::kEncoderPayload,
+         [&](lf::ByteWriter& w) { lf::encode(w, s); });
+}
+void Recorder::frame(const hal::CameraFrame& f) {
+  const std::uint64_t k = frames_seen_++;
+  if (options_.frame_every <= 0 || k % static_cast<std::uint64_t>(options_.frame_every) != 0) {
+    ++stats_.frames_skipped;
+    return;
+  }
+  append(lf::RecordType::kFrame, lf::frame_payload_size(f),
+         [&](lf::ByteWriter& w) { lf::encode(w, f); });
+}
+void Recorder::lift(hal::TimeNs t_ns, bool lifted) {
+  append(lf::RecordType::kLift, lf::kLiftPayload,
+         [&](lf::ByteWriter& w) { lf::encode_lift(w, t_ns, lifted); });
+}
+void Recorder::pose(const hal::PoseEstimate& p) {
+  append(lf::RecordType::kPose, lf::kPosePayload, [&](lf::ByteWriter& w) { lf::encode(w, p); });
+}
+void Recorder::update(const lf::UpdateRecord& u) {
+  append(lf::RecordType::kUpdate, lf::kUpdatePayload, [&](lf::ByteWriter& w) { lf::encode(w, u); });
+}
+
+std::size_t Recorder::write_segment(std::size_t max_bytes) {
+  const std::size_t n = std::min({size_, ring_.size() - head_, max_bytes});
+  if (n == 0 || fd_ < 0) {
+    return 0;
+  }
+  const ssize_t written = ::write(fd_, ring_.data() + head_, n);
+  if (written <= 0) {
+    if (written < 0 && errno != EINTR && errno != EAGAIN) {
+      ++stats_.write_errors;
+    }
+    return 0;
+  }
+  const auto w = static_cast<std::size_t>(written);
+  head_ = (head_ + w) % ring_.size();
+  size_ -= w;
+  stats_.bytes_written += w;
+  return w;
+}
+
+void Recorder::write_some() {
+  std::size_t budget = options_.write_chunk_bytes;
+  while (budget > 0 && size_ > 0) {
+    const std::size_t w = write_segment(budget);
+    if (w == 0) {
+      break;
+    }
+    budget -= w;
+  }
+}
+
+void Recorder::flush(bool sync) {
+  while (size_ > 0) {
+    if (write_segment(size_) == 0) {
+      break;
+    }
+  }
+  if (sync && fd_ >= 0) {
+    ::fsync(fd_);
+  }
+}
+
+void Recorder::rotate() {
+  rotating_ = true;
+  flush(false);
+  ::close(fd_);
+  fd_ = -1;
+  if (names_.size() > 1) {
+    ::unlink(names_.back().c_str());
+    for (std::size_t i = names_.size() - 1; i > 0; --i) {
+      ::rename(names_[i - 1].c_str(), names_[i].c_str());
+    }
+  }
+  if (!open_file()) {
+    ++stats_.write_errors;
+  }
+  ++stats_.rotations;
+  rotating_ = false;
+}
+
+void Recorder::close() {
+  if (fd_ >= 0) {
+    flush(true);
+    ::close(fd_);
+    fd_ = -1;
+  }
+}
+
+}  // namespace cleanslam::firmware

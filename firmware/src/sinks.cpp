@@ -1,0 +1,192 @@
+#include "cleanslam/firmware/sinks.hpp"
+
+#include <cerrno>
+#include <cstring>
+
+namespace cleanslam::firmware {
+
+namespace {
+
+using Quat = std::array<double, 4>;  // w x y z
+
+Quat conjugate(const Quat& q) {
+  return {q[0], -q[1], -q[2], -q[3]};
+}
+Quat multiply(const Quat& a, const Quat& b) {
+  return {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+          a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+          a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+          a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
+}
+// Rotation matrix of a unit quaternion, row-major.
+std::array<double, 9> matrix(const Quat& q) {
+  const double w = q[0];
+  const double x = q[1];
+  const double y = q[2];
+  const double z = q[3];
+  return {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
+          2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+          2 * (x * z - w * y),     2 * (y * z + w * x),     1 - 2 * (x * x + y * y)};
+}
+
+// The stdio buffer is ours, allocated here: writing later allocates nothing.
+bool open_file(std::FILE*& f, std::vector<char>& buffer, const std::string& path,
+               std::string& error) {
+  f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) {
+    error = path + ": cannot create: " + std::strerror(errno);
+    return false;
+  }
+  buffer.assign(1U << 16, 0);
+  std::setvbuf(f, buffer.data(), _IOFBF, buffer.size());
+  return true;
+}
+
+}  // namespace
+
+TumWriter::~TumWriter() {
+  close();
+}
+
+bool TumWriter::open(const std::string& path, bool relative_to_first, bool with_covariance,
+                     std::string& error) {
+  close();
+  relative_ = relative_to_first;
+  have_first_ = false;
+  if (!open_file(file_, buffer_, path, error)) {
+    return false;
+  }
+  return !with_covariance || open_file(cov_, cov_buffer_, path + ".cov", error);
+}
+
+void TumWriter::publish(const hal::PoseEstimate& pose) {
+  if (file_ == nullptr) {
+    return;
+  }
+  std::array<double, 3> p = pose.position_m;
+  Quat q = pose.orientation_wxyz;
+  std::array<double, 36> cov = pose.covariance;
+  if (relative_) {
+    if (!have_first_) {
+      p0_ = p;
+      q0_ = q;
+      have_first_ = true;
+    }
+    // T_rel = T_0^-1 T: p_rel = R0^T (p - p0), q_rel = q0* q; position covariance R0^T S R0.
+    const auto R0 = matrix(q0_);
+    const std::array<double, 3> d{p[0] - p0_[0], p[1] - p0_[1], p[2] - p0_[2]};
+    for (int i = 0; i < 3; ++i) {
+      p[static_cast<std::size_t>(i)] = R0[static_cast<std::size_t>(0 * 3 + i)] * d[0] +
+                                       R0[static_cast<std::size_t>(1 * 3 + i)] * d[1] +
+                                       R0[static_cast<std::size_t>(2 * 3 + i)] * d[2];
+    }
+    q = multiply(conjugate(q0_), q);
+    // J = blockdiag(R0^T, I3): cov' = J cov J^T.
+    std::array<double, 36> J{};
+    for (std::size_t i = 0; i < 3; ++i) {
+      for (std::size_t j = 0; j < 3; ++j) {
+        J[i * 6 + j] = R0[j * 3 + i];
+      }
+      J[(i + 3) * 6 + i + 3] = 1.0;
+    }
+    std::array<double, 36> tmp{};
+    for (std::size_t i = 0; i < 6; ++i) {
+      for (std::size_t j = 0; j < 6; ++j) {
+        double s = 0.0;
+        for (std::size_t k = 0; k < 6; ++k) {
+          s += J[i * 6 + k] * pose.covariance[k * 6 + j];
+        }
+        tmp[i * 6 + j] = s;
+      }
+    }
+    for (std::size_t i = 0; i < 6; ++i) {
+      for (std::size_t j = 0; j < 6; ++j) {
+        double s = 0.0;
+        for (std::size_t k = 0; k < 6; ++k) {
+          s += tmp[i * 6 + k] * J[j * 6 + k];
+        }
+        cov[i * 6 + j] = s;
+      }
+    }
+  }
+  const double t = static_cast<double>(pose.t_ns) * 1e-9;
+  std::fprintf(file_, "%.9f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", t, p[0], p[1], p[2], q[1], q[2],
+               q[3], q[0]);
+  if (cov_ != nullptr) {
+    std::fprintf(cov_, "%.9f", t);
+    for (double v : cov) {
+      std::fprintf(cov_, " %.9g", v);
+    }
+    std::fputc('\n', cov_);
+  }
+}
+
+void TumWriter::flush() {
+  if (file_ != nullptr) {
+    std::fflush(file_);
+  }
+  if (cov_ != nullptr) {
+    std::fflush(cov_);
+  }
+}
+
+void TumWriter::close() {
+  if (file_ != nullptr) {
+    std::fclose(file_);
+    file_ = nullptr;
+  }
+  if (cov_ != nullptr) {
+    std::fclose(cov_);
+    cov_ = nullptr;
+  }
+}
+
+const char* to_string(hal::log::UpdateStatus s) {
+  switch (s) {
+    case hal::log::UpdateStatus::kUpdated:
+      return "updated";
+    case hal::log::UpdateStatus::kInitialized:
+      return "initialized";
+    case hal::log::UpdateStatus::kGated:
+      return "gated";
+    case hal::log::UpdateStatus::kRejected:
+      return "rejected";
+    case hal::log::UpdateStatus::kSkipped:
+      return "skipped";
+    case hal::log::UpdateStatus::kNoSlot:
+      return "no_slot";
+  }
+  return "?";
+}
+
+DiagnosticsCsv::~DiagnosticsCsv() {
+  if (file_ != nullptr) {
+    std::fclose(file_);
+  }
+}
+
+bool DiagnosticsCsv::open(const std::string& path, std::string& error) {
+  if (!open_file(file_, buffer_, path, error)) {
+    return false;
+  }
+  std::fputs("#t_ns,track_id,slot,status,u_px,v_px,innovation_u,innovation_v,mahalanobis2\n",
+             file_);
+  return true;
+}
+
+void DiagnosticsCsv::update(const hal::log::UpdateRecord& r) {
+  if (file_ == nullptr) {
+    return;
+  }
+  std::fprintf(file_, "%lld,%lld,%d,%s,%.9g,%.9g,%.9g,%.9g,%.9g\n", static_cast<long long>(r.t_ns),
+               static_cast<long long>(r.track_id), r.slot, to_string(r.status), r.u_px, r.v_px,
+               r.innovation_u, r.innovation_v, r.mahalanobis2);
+}
+
+void DiagnosticsCsv::flush() {
+  if (file_ != nullptr) {
+    std::fflush(file_);
+  }
+}
+
+}  // namespace cleanslam::firmware

@@ -1,0 +1,272 @@
+#include "cleanslam/firmware/slam_estimator.hpp"
+
+#include <cmath>
+
+#include "cleanslam/firmware/program.hpp"
+#include "cleanslam/slam_core/camera_model.hpp"
+#include "cleanslam/slam_core/geometry.hpp"
+
+namespace cleanslam::firmware {
+
+namespace lf = hal::log;
+
+namespace {
+
+slam_core::EkfConfig ekf_config(const FirmwareConfig& c) {
+  slam_core::EkfConfig e;
+  e.eps_ct_m = c.filter.eps_ct_m;
+  e.assumed_depth_m = c.filter.assumed_depth_m;
+  e.eps_trk_px = c.filter.eps_trk_px;
+  e.eps_cal_px = c.filter.eps_cal_px;
+  e.gate_chi2 = c.filter.gate_chi2;
+  e.max_landmarks = c.filter.max_landmarks;
+  return e;
+}
+
+slam_core::DeadReckoningConfig dead_reckoning_config(const FirmwareConfig& c) {
+  slam_core::DeadReckoningConfig d;
+  d.gyro_timeout_s = hal::to_seconds(c.loop.gyro_timeout_ns);
+  d.encoder_yaw_noise_rad_per_sqrt_m = c.filter.encoder_yaw_noise_rad_per_sqrt_m;
+  d.standstill_rate_rad_s = c.frontend.standstill_rate_rad_s;
+  d.standstill_window_s = c.frontend.standstill_window_s;
+  return d;
+}
+
+slam_core::frontend::JcbbConfig jcbb_config(const FirmwareConfig& c) {
+  slam_core::frontend::JcbbConfig j;
+  j.min_inliers = c.frontend.min_inliers;
+  return j;
+}
+
+}  // namespace
+
+std::unique_ptr<Estimator> make_estimator(const FirmwareConfig& config) {
+  return std::make_unique<SlamEstimator>(config);
+}
+
+SlamEstimator::SlamEstimator(const FirmwareConfig& config)
+    : config_(config),
+      dr_(config.calibration, dead_reckoning_config(config)),
+      ekf_(config.calibration, ekf_config(config)),
+      jcbb_(jcbb_config(config)),
+      camera_offset_ns_(hal::from_seconds(config.calibration.camera.time_offset_s)) {
+  slot_owner_.fill(-1);
+}
+
+void SlamEstimator::reset(hal::TimeNs /*t_ns*/) {
+  dr_ = slam_core::DeadReckoner(config_.calibration, dead_reckoning_config(config_));
+  // The world frame is the body frame at the start: the camera pose follows from T_body_cam.
+  const slam_core::Vector6d cam =
+      slam_core::camera_pose_from_body_pose(slam_core::Vector6d::Zero(), ekf_.camera());
+  ekf_.reset(cam, slam_core::Matrix6d::Identity() * 1e-10);
+  slot_owner_.fill(-1);
+  predicted_to_ns_ = -1;
+  frame_done_ = true;
+  record_count_ = 0;
+}
+
+void SlamEstimator::add_gyro(const hal::GyroSample& s) {
+  dr_.add_gyro(s);
+}
+
+void SlamEstimator::add_encoder(const hal::EncoderSample& s) {
+  dr_.add_encoder(s);
+}
+
+void SlamEstimator::predict(hal::TimeNs t_ns, bool /*gyro_ok: the dead reckoner sees it too*/) {
+  if (t_ns > predicted_to_ns_) {
+    ekf_.predict(dr_.take_increment(t_ns));
+    predicted_to_ns_ = t_ns;
+  }
+}
+
+void SlamEstimator::begin_frame(const hal::CameraFrame& frame) {
+  frame_ = frame;
+  frame_done_ = false;
+  record_count_ = 0;
+}
+
+bool SlamEstimator::step_frame(int& budget) {
+  if (frame_done_) {
+    return true;
+  }
+  // The features path is one step: association, JCBB and one batch update.
+  budget -= frame_.feature_count;
+  if (frame_.has_features()) {
+    // Usually a no-op: the loop predicted up to the newest encoder sample, at or after the frame.
+    predict(frame_.t_ns + camera_offset_ns_, true);
+    process_features();
+  } else {
+    ++image_frames_ignored_;
+  }
+  frame_done_ = true;
+  return true;
+}
+
+int SlamEstimator::slot_of(std::int64_t track_id) const {
+  for (int s = 0; s < hal::kMaxLandmarks; ++s) {
+    if (slot_owner_[static_cast<std::size_t>(s)] == track_id && ekf_.slot_used(s)) {
+      return s;
+    }
+  }
+  return -1;
+}
+
+void SlamEstimator::record(const hal::FeatureObservation& f, lf::UpdateStatus status, int slot) {
+  if (record_count_ >= static_cast<int>(records_.size())) {
+    return;
+  }
+  lf::UpdateRecord& r = records_[static_cast<std::size_t>(record_count_++)];
+  r = lf::UpdateRecord{};
+  r.t_ns = frame_.t_ns;
+  r.track_id = f.track_id;
+  r.slot = slot;
+  r.status = status;
+  r.u_px = f.u_px;
+  r.v_px = f.v_px;
+}
+
+void SlamEstimator::process_features() {
+  const int n = frame_.feature_count;
+  if (dr_.standing_still()) {
+    for (int i = 0; i < n; ++i) {
+      record(frame_.features[i], lf::UpdateStatus::kSkipped, slot_of(frame_.features[i].track_id));
+    }
+    return;
+  }
+  const double w = config_.calibration.camera.width;
+  const double h = config_.calibration.camera.height;
+  int m = 0;
+  int fresh = 0;
+  for (int i = 0; i < n; ++i) {
+    const hal::FeatureObservation& f = frame_.features[i];
+    if (!(f.u_px >= -0.5 && f.u_px < w - 0.5 && f.v_px >= -0.5 && f.v_px < h - 0.5)) {
+      record(f, lf::UpdateStatus::kRejected, -1);
+      continue;
+    }
+    const int slot = slot_of(f.track_id);
+    if (slot < 0) {
+      new_feature_[static_cast<std::size_t>(fresh++)] = i;
+      continue;
+    }
+    slam_core::PixelPrediction pp;
+    if (m >= kMaxObs || !ekf_.predict_pixel(slot, pp) || !pp.in_front) {
+      record(f, lf::UpdateStatus::kRejected, slot);
+      continue;
+    }
+    obs_[static_cast<std::size_t>(m)] = slam_core::Observation{slot, f.u_px, f.v_px};
+    obs_feature_[static_cast<std::size_t>(m)] = i;
+    ++m;
+  }
+
+  if (m > 0) {
+    const int k = ekf_.joint_pixel_innovation(obs_.data(), m, nu_.data(), S_.data());
+    const slam_core::frontend::JcbbResult jr =
+        k == m ? jcbb_.solve(nu_.data(), S_.data(), m, inlier_.data())
+               : slam_core::frontend::JcbbResult{};
+    int q = 0;
+    if (jr.update) {
+      for (int i = 0; i < m; ++i) {
+        if (inlier_[static_cast<std::size_t>(i)]) {
+          inlier_obs_[static_cast<std::size_t>(q)] = obs_[static_cast<std::size_t>(i)];
+          inlier_feature_[static_cast<std::size_t>(q)] = i;
+          ++q;
+        }
+      }
+    }
+    const slam_core::UpdateStatus* status = q > 0 ? &ekf_.update(inlier_obs_.data(), q) : nullptr;
+    int next_inlier = 0;
+    for (int i = 0; i < m; ++i) {
+      const auto ui = static_cast<std::size_t>(i);
+      const hal::FeatureObservation& f = frame_.features[obs_feature_[ui]];
+      lf::UpdateStatus st = lf::UpdateStatus::kSkipped;  // too few inliers
+      if (k != m) {
+        st = lf::UpdateStatus::kRejected;
+      } else if (jr.update && !inlier_[ui]) {
+        st = lf::UpdateStatus::kGated;  // JCBB
+      } else if (jr.update && status != nullptr) {
+        const auto& o = status->observations[static_cast<std::size_t>(next_inlier++)];
+        st = o.fused()                                         ? lf::UpdateStatus::kUpdated
+             : o.result == slam_core::ObservationResult::kGate ? lf::UpdateStatus::kGated
+                                                               : lf::UpdateStatus::kRejected;
+      }
+      record(f, st, obs_[ui].slot);
+      if (k == m) {
+        lf::UpdateRecord& r = records_[static_cast<std::size_t>(record_count_ - 1)];
+        const double nu_u = nu_[2 * ui];
+        const double nu_v = nu_[2 * ui + 1];
+        const auto ld = static_cast<std::size_t>(2 * m);
+        const double a = S_[2 * ui * ld + 2 * ui];
+        const double b = S_[(2 * ui + 1) * ld + 2 * ui];
+        const double d = S_[(2 * ui + 1) * ld + 2 * ui + 1];
+        const double det = a * d - b * b;
+        r.innovation_u = nu_u;
+        r.innovation_v = nu_v;
+        r.mahalanobis2 =
+            det > 0.0 ? (d * nu_u * nu_u - 2.0 * b * nu_u * nu_v + a * nu_v * nu_v) / det : 0.0;
+      }
+    }
+  }
+
+  // Undelayed initialization of unseen ids, keeping at most kMaxObs landmarks in view.
+  int budget = kMaxObs - m;
+  for (int j = 0; j < fresh; ++j) {
+    const hal::FeatureObservation& f = frame_.features[new_feature_[static_cast<std::size_t>(j)]];
+    if (budget <= 0) {
+      record(f, lf::UpdateStatus::kSkipped, -1);
+      continue;
+    }
+    const int slot = ekf_.initialize_landmark(f.u_px, f.v_px);
+    if (slot < 0) {
+      record(f, lf::UpdateStatus::kNoSlot, -1);
+      continue;
+    }
+    --budget;
+    slot_owner_[static_cast<std::size_t>(slot)] = f.track_id;
+    record(f, lf::UpdateStatus::kInitialized, slot);
+  }
+}
+
+int SlamEstimator::update_records(const lf::UpdateRecord*& records) const {
+  records = records_.data();
+  return record_count_;
+}
+
+hal::PoseEstimate SlamEstimator::pose(hal::TimeNs t_ns) const {
+  return ekf_.body_pose_estimate(t_ns);
+}
+
+bool SlamEstimator::standing_still() const {
+  return dr_.standing_still();
+}
+
+hal::PoseEstimate SlamEstimator::dead_reckoning_pose(hal::TimeNs t_ns) const {
+  hal::PoseEstimate p;
+  p.t_ns = t_ns;
+  p.position_m = {dr_.x(), dr_.y(), 0.0};
+  const double yaw = dr_.yaw();
+  p.orientation_wxyz = {std::cos(yaw / 2.0), 0.0, 0.0, std::sin(yaw / 2.0)};
+  return p;
+}
+
+int SlamEstimator::landmarks(LandmarkEstimate* out, int max) const {
+  int n = 0;
+  for (int s = 0; s < hal::kMaxLandmarks && n < max; ++s) {
+    if (!ekf_.slot_used(s)) {
+      continue;
+    }
+    LandmarkEstimate& l = out[n++];
+    l.slot = s;
+    const Eigen::Vector3d p = ekf_.landmark(s);
+    const Eigen::Matrix3d c = ekf_.landmark_covariance(s);
+    l.position_m = {p.x(), p.y(), p.z()};
+    for (int r = 0; r < 3; ++r) {
+      for (int k = 0; k < 3; ++k) {
+        l.covariance[static_cast<std::size_t>(3 * r + k)] = c(r, k);
+      }
+    }
+  }
+  return n;
+}
+
+}  // namespace cleanslam::firmware

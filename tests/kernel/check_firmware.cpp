@@ -1,0 +1,173 @@
+// The complete cleanslam in the guest: on vcan0 (a simulated base board: gyro 100 Hz, encoders
+// 20 Hz), the PL061 lift line and vivid's camera, for a few seconds; it must keep running, send
+// pose frames, see the lift, and stop cleanly on SIGTERM.
+#include <fcntl.h>
+#include <linux/can.h>
+#include <net/if.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cleanslam/drivers/can_messages.hpp"
+#include "kernel_check.hpp"
+
+namespace {
+
+using cleanslam::kernel_test::Check;
+namespace can_map = cleanslam::drivers::can_map;
+using TimeNs = long long;
+
+TimeNs now_ns() {
+  timespec ts{};
+  ::clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<TimeNs>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+int can_socket() {
+  const int s = ::socket(PF_CAN, SOCK_RAW, CAN_RAW);
+  sockaddr_can a{};
+  a.can_family = AF_CAN;
+  a.can_ifindex = static_cast<int>(::if_nametoindex("vcan0"));
+  ::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  return s;
+}
+
+void send(int s, const can_map::Frame& f) {
+  can_frame c{};
+  c.can_id = f.id;
+  c.len = f.length;
+  std::memcpy(c.data, f.data.data(), 8);
+  (void)!::write(s, &c, sizeof c);
+}
+
+// The base board: 0.2 m/s forward with a slow left turn.
+void base_board(std::atomic<bool>* stop) {
+  const int s = can_socket();
+  TimeNs next = now_ns();
+  for (int k = 0; !stop->load(); ++k) {
+    const auto seq = static_cast<std::uint8_t>(k);
+    send(s, can_map::encode(can_map::GyroMessage{50'000, 3000, seq, 0}));
+    if (k % 5 == 0) {
+      const std::int32_t ticks = (k / 5) * 40;  // 0.2 m/s at 4000 ticks/m, 20 Hz
+      send(s, can_map::encode(can_map::EncoderMessage{ticks, ticks + (k / 5) * 2,
+                                                      static_cast<std::uint8_t>(k / 5), 0}));
+    }
+    next += 10'000'000;
+    timespec ts{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
+    ::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
+  }
+  ::close(s);
+}
+
+}  // namespace
+
+int main() {
+  Check check("firmware");
+  if (::access("/program/cleanslam", X_OK) != 0) {
+    check.expect(false, "/program/cleanslam not in the guest");
+    return check.finish();
+  }
+  std::atomic<bool> stop{false};
+  std::thread board(base_board, &stop);
+  const int listener = can_socket();
+
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int log = ::open("/tmp/cleanslam.log", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(log, 1);
+    ::dup2(log, 2);
+    ::setenv("LD_LIBRARY_PATH", "/lib/aarch64-linux-gnu", 1);
+    const char* argv[] = {"/program/cleanslam",
+                          "--set",
+                          "source.kind=drivers",
+                          "--set",
+                          "source.can_interface=vcan0",
+                          "--set",
+                          "source.camera_device=/dev/video0",
+                          "--set",
+                          "source.gpio_chip=/dev/gpiochip0",
+                          "--set",
+                          "source.lift_line=3",
+                          "--set",
+                          "sinks.can=true",
+                          "--set",
+                          "sinks.can_interface=vcan0",
+                          "--set",
+                          "sinks.tum=/tmp/cleanslam.tum",
+                          nullptr};
+    ::execv(argv[0], const_cast<char* const*>(argv));
+    std::perror("execv");
+    ::_exit(127);
+  }
+
+  const TimeNs start = now_ns();
+  int pose_frames = 0;
+  int lifted_frames = 0;
+  bool lift_requested = false;
+  bool exited_early = false;
+  int status = 0;
+  while (now_ns() - start < 6'000'000'000LL) {
+    if (!lift_requested && now_ns() - start > 3'000'000'000LL) {
+      std::printf("KERNEL-REQUEST powerdown\n");
+      std::fflush(stdout);
+      lift_requested = true;
+    }
+    pollfd p{listener, POLLIN, 0};
+    if (::poll(&p, 1, 50) > 0) {
+      can_frame f{};
+      if (::read(listener, &f, sizeof f) == sizeof f && f.can_id != can_map::kEncoderId &&
+          f.can_id != can_map::kGyroId) {
+        ++pose_frames;
+        if (f.can_id == can_map::kPoseYawId && (f.data[7] & 0x10U) != 0) {
+          ++lifted_frames;
+        }
+      }
+    }
+    if (::waitpid(pid, &status, WNOHANG) == pid) {
+      exited_early = true;
+      break;
+    }
+  }
+  check.expect(!exited_early, "cleanslam exited on its own after %.1f s (status 0x%x)",
+               static_cast<double>(now_ns() - start) * 1e-9, static_cast<unsigned>(status));
+  bool clean = false;
+  if (!exited_early) {
+    const TimeNs term = now_ns();
+    ::kill(pid, SIGTERM);
+    while (now_ns() - term < 5'000'000'000LL) {
+      if (::waitpid(pid, &status, WNOHANG) == pid) {
+        clean = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+        check.note("stopped %.2f s after SIGTERM, status 0x%x",
+                   static_cast<double>(now_ns() - term) * 1e-9, static_cast<unsigned>(status));
+        break;
+      }
+      ::usleep(20'000);
+    }
+    if (!clean && ::waitpid(pid, &status, WNOHANG) == 0) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      check.note("still running 5 s after SIGTERM: killed");
+    }
+  }
+  stop = true;
+  board.join();
+  check.expect(clean, "cleanslam did not stop cleanly on SIGTERM");
+  check.note("%d pose frames on vcan0, %d of them flagged lifted", pose_frames, lifted_frames);
+  check.expect(pose_frames >= 10, "only %d pose frames on vcan0", pose_frames);
+  check.expect(lifted_frames > 0, "no pose frame flagged the lift (power-button pulse on line 3)");
+
+  std::printf("  firmware: last lines of its log:\n");
+  std::fflush(stdout);
+  (void)!std::system("tail -n 15 /tmp/cleanslam.log | sed 's/^/    | /'");
+  return check.finish();
+}

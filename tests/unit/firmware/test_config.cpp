@@ -1,0 +1,109 @@
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "cleanslam/firmware/config.hpp"
+
+namespace cleanslam {
+namespace {
+
+using firmware::config_text;
+using firmware::ConfigResult;
+using firmware::FirmwareConfig;
+using firmware::load_config;
+using firmware::parse_config;
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) {
+    s += x + "\n";
+  }
+  return s;
+}
+
+TEST(Config, TheSampleDocumentsEveryKeyWithItsDefault) {
+  const std::string sample =
+      std::string(CLEANSLAM_SOURCE_DIR) + "/firmware/config/cleanslam.sample.yaml";
+  const ConfigResult r = load_config(sample, {});
+  ASSERT_TRUE(r.ok()) << joined(r.errors);
+  EXPECT_TRUE(r.warnings.empty()) << joined(r.warnings);
+  EXPECT_EQ(config_text(r.config), config_text(FirmwareConfig{}));
+  // And every key of the canonical text appears in the sample.
+  const ConfigResult defaults = parse_config(config_text(FirmwareConfig{}), "canonical", {});
+  ASSERT_TRUE(defaults.ok()) << joined(defaults.errors);
+  EXPECT_TRUE(defaults.warnings.empty()) << joined(defaults.warnings);
+}
+
+TEST(Config, CanonicalTextReadsBackToTheSameConfiguration) {
+  const ConfigResult a = parse_config(
+      "filter:\n  eps_ct_m: 123.456789\nloop:\n  gyro_timeout_s: 0.123\nsource:\n  kind: log\n"
+      "  path: \"/tmp/x y.log\"\nrecorder:\n  frame_every: 3\ncalibration:\n  camera:\n"
+      "    fx: 281.25\n",
+      "a.yaml", {});
+  ASSERT_TRUE(a.ok()) << joined(a.errors);
+  EXPECT_EQ(a.config.filter.eps_ct_m, 123.456789);
+  EXPECT_EQ(a.config.loop.gyro_timeout_ns, 123'000'000);
+  EXPECT_EQ(a.config.source.kind, firmware::SourceSettings::Kind::kLog);
+  EXPECT_EQ(a.config.source.path, "/tmp/x y.log");
+  EXPECT_EQ(a.config.calibration.camera.fx, 281.25);
+  const std::string text = config_text(a.config);
+  const ConfigResult b = parse_config(text, "b.yaml", {});
+  ASSERT_TRUE(b.ok()) << joined(b.errors);
+  EXPECT_EQ(config_text(b.config), text);
+}
+
+TEST(Config, WrongTypeOrRangeNamesFileLineAndKey) {
+  const ConfigResult r = parse_config(
+      "loop:\n  publish_rate_hz: fast\n  frame_rate_hz: 100\nfilter:\n  max_landmarks: 500\n"
+      "source:\n  kind: camera\n",
+      "robot.yaml", {});
+  ASSERT_EQ(r.errors.size(), 4U) << joined(r.errors);
+  const std::string all = joined(r.errors);
+  EXPECT_NE(all.find("robot.yaml:2"), std::string::npos) << all;
+  EXPECT_NE(all.find("loop.publish_rate_hz"), std::string::npos) << all;
+  EXPECT_NE(all.find("robot.yaml:3: loop.frame_rate_hz: 100 is out of range"), std::string::npos)
+      << all;
+  EXPECT_NE(all.find("robot.yaml:5: filter.max_landmarks: 500 is out of range"), std::string::npos)
+      << all;
+  EXPECT_NE(all.find("robot.yaml:7: source.kind"), std::string::npos) << all;
+}
+
+TEST(Config, UnknownKeysWarnWithTheirLocation) {
+  const ConfigResult r = parse_config("loop:\n  publish_rate: 10\nfiltre: {}\n", "w.yaml", {});
+  ASSERT_TRUE(r.ok()) << joined(r.errors);
+  ASSERT_EQ(r.warnings.size(), 2U) << joined(r.warnings);
+  const std::string all = joined(r.warnings);
+  EXPECT_NE(all.find("w.yaml:2"), std::string::npos) << all;
+  EXPECT_NE(all.find("loop.publish_rate"), std::string::npos) << all;
+  EXPECT_NE(all.find("filtre"), std::string::npos) << all;
+}
+
+TEST(Config, SetOverridesFileValuesAndCreatesSections) {
+  const ConfigResult r = parse_config("loop:\n  publish_rate_hz: 10\n", "s.yaml",
+                                      {"loop.publish_rate_hz=50", "recorder.path=/tmp/r.log",
+                                       "calibration.camera.distortion=[0.1, 0, 0, 0]"});
+  ASSERT_TRUE(r.ok()) << joined(r.errors);
+  EXPECT_EQ(r.config.loop.publish_rate_hz, 50.0);
+  EXPECT_EQ(r.config.recorder.path, "/tmp/r.log");
+  EXPECT_EQ(r.config.calibration.camera.distortion[0], 0.1);
+  const ConfigResult bad = parse_config("", "s.yaml", {"loop.gyro_timeout_s=-1"});
+  ASSERT_EQ(bad.errors.size(), 1U);
+  EXPECT_NE(bad.errors[0].find("--set loop.gyro_timeout_s:1: loop.gyro_timeout_s"),
+            std::string::npos)
+      << bad.errors[0];
+  const ConfigResult malformed = parse_config("", "s.yaml", {"novalue"});
+  ASSERT_EQ(malformed.errors.size(), 1U);
+  EXPECT_NE(malformed.errors[0].find("novalue"), std::string::npos);
+  const ConfigResult into_scalar = parse_config("loop: 3\n", "s.yaml", {"loop.x=1"});
+  EXPECT_FALSE(into_scalar.ok());
+}
+
+TEST(Config, AMissingFileIsAnErrorNamingIt) {
+  const ConfigResult r = load_config("/nonexistent/robot.yaml", {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.errors[0].find("/nonexistent/robot.yaml"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace cleanslam
