@@ -38,6 +38,14 @@ slam_core::frontend::JcbbConfig jcbb_config(const FirmwareConfig& c) {
   return j;
 }
 
+slam_core::frontend::FramePipelineConfig pipeline_config(const FirmwareConfig& c) {
+  slam_core::frontend::FramePipelineConfig p;
+  p.width = c.calibration.camera.width;
+  p.height = c.calibration.camera.height;
+  p.jcbb.min_inliers = c.frontend.min_inliers;
+  return p;
+}
+
 }  // namespace
 
 std::unique_ptr<Estimator> make_estimator(const FirmwareConfig& config) {
@@ -49,6 +57,8 @@ SlamEstimator::SlamEstimator(const FirmwareConfig& config)
       dr_(config.calibration, dead_reckoning_config(config)),
       ekf_(config.calibration, ekf_config(config)),
       jcbb_(jcbb_config(config)),
+      pipeline_(std::make_unique<slam_core::frontend::FramePipeline>(pipeline_config(config))),
+      adapter_(ekf_),
       camera_offset_ns_(hal::from_seconds(config.calibration.camera.time_offset_s)) {
   slot_owner_.fill(-1);
 }
@@ -60,6 +70,11 @@ void SlamEstimator::reset(hal::TimeNs /*t_ns*/) {
       slam_core::camera_pose_from_body_pose(slam_core::Vector6d::Zero(), ekf_.camera());
   ekf_.reset(cam, slam_core::Matrix6d::Identity() * 1e-10);
   slot_owner_.fill(-1);
+  if (image_frames_ > 0) {
+    // Set down after a lift: the front end forgets its patches with the map (allocates once
+    // more; the pipeline has no reset of its own).
+    pipeline_ = std::make_unique<slam_core::frontend::FramePipeline>(pipeline_config(config_));
+  }
   predicted_to_ns_ = -1;
   frame_done_ = true;
   record_count_ = 0;
@@ -84,10 +99,25 @@ void SlamEstimator::begin_frame(const hal::CameraFrame& frame) {
   frame_ = frame;
   frame_done_ = false;
   record_count_ = 0;
+  image_mode_ = !frame.has_features() && frame.has_image();
+  if (image_mode_) {
+    ++image_frames_;
+    predict(frame.t_ns + camera_offset_ns_, true);
+    pipeline_->begin_frame(frame.image, !dr_.standing_still());
+  }
 }
 
 bool SlamEstimator::step_frame(int& budget) {
   if (frame_done_) {
+    return true;
+  }
+  if (image_mode_) {
+    budget = 0;  // one bounded pipeline step per loop iteration
+    if (pipeline_->step(adapter_)) {
+      return false;
+    }
+    collect_image_records();
+    frame_done_ = true;
     return true;
   }
   // The features path is one step: association, JCBB and one batch update.
@@ -96,8 +126,6 @@ bool SlamEstimator::step_frame(int& budget) {
     // Usually a no-op: the loop predicted up to the newest encoder sample, at or after the frame.
     predict(frame_.t_ns + camera_offset_ns_, true);
     process_features();
-  } else {
-    ++image_frames_ignored_;
   }
   frame_done_ = true;
   return true;
@@ -224,6 +252,25 @@ void SlamEstimator::process_features() {
     --budget;
     slot_owner_[static_cast<std::size_t>(slot)] = f.track_id;
     record(f, lf::UpdateStatus::kInitialized, slot);
+  }
+}
+
+// Image path: one record per searched landmark (track id = slot) and per new landmark.
+void SlamEstimator::collect_image_records() {
+  const auto& report = pipeline_->report();
+  for (int i = 0; i < pipeline_->track_count(); ++i) {
+    const slam_core::frontend::TrackRecord& t = pipeline_->tracks()[i];
+    lf::UpdateStatus st = lf::UpdateStatus::kRejected;  // not found by the tracker
+    if (t.result.found) {
+      st = !t.inlier        ? lf::UpdateStatus::kGated
+           : report.updated ? lf::UpdateStatus::kUpdated
+                            : lf::UpdateStatus::kSkipped;
+    }
+    record(hal::FeatureObservation{t.slot, t.result.u_px, t.result.v_px}, st, t.slot);
+  }
+  for (int i = 0; i < pipeline_->new_landmark_count(); ++i) {
+    const auto& o = pipeline_->new_landmark(i);
+    record(hal::FeatureObservation{o.slot, o.u_px, o.v_px}, lf::UpdateStatus::kInitialized, o.slot);
   }
 }
 

@@ -12,12 +12,15 @@ cat "$WORK/replay.err"
 python3 - "$WORK/run.log" "$WORK/tampered.log" <<'PY'
 import struct, sys, zlib
 data = bytearray(open(sys.argv[1], "rb").read())
-# Flip one bit in the first gyro record's rate and fix its CRC: valid log, different input.
+# Change the rate of the 50th gyro record by about 6 % (a high mantissa bit) and fix its CRC:
+# a valid log with a different input.
 pos = 16
+seen = 0
 while pos + 16 <= len(data):
     sync, length, rtype, flags, crc = struct.unpack_from("<IIHHI", data, pos)
-    if rtype == 3:
-        data[pos + 16 + 8] ^= 0x01
+    seen += rtype == 3
+    if rtype == 3 and seen == 50:
+        data[pos + 16 + 8 + 6] ^= 0x01
         crc = zlib.crc32(bytes(data[pos + 4:pos + 12]) + bytes(data[pos + 16:pos + 16 + length]))
         struct.pack_into("<I", data, pos + 12, crc)
         break

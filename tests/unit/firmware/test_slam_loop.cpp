@@ -52,11 +52,16 @@ struct SimulatedRun {
   hal::Calibration calibration;
   bool ok = false;
 
-  explicit SimulatedRun(double duration_s) {
+  std::vector<std::vector<std::uint8_t>> images;
+
+  explicit SimulatedRun(double duration_s, bool rendered = false) {
     const fs::path dir =
         fs::temp_directory_path() / ("cleanslam_slamloop_" + std::to_string(::getpid()));
-    auto scenario =
-        sim_hal::sim::load_scenario("default-room", {"duration_s=" + std::to_string(duration_s)});
+    std::vector<std::string> overrides{"duration_s=" + std::to_string(duration_s)};
+    if (rendered) {
+      overrides.emplace_back("camera.mode=images");
+    }
+    auto scenario = sim_hal::sim::load_scenario("default-room", overrides);
     if (!scenario.ok() || !sim_hal::sim::simulate(*scenario, dir.string()).ok()) {
       return;
     }
@@ -66,15 +71,26 @@ struct SimulatedRun {
     }
     calibration = ds->calibration();
     source.features.reserve(100000);
+    images.reserve(10000);
     hal::SensorEvent ev;
     while (ds->next_event_time() >= 0 && ds->read(ev)) {
       if (ev.kind == hal::SensorEvent::Kind::kFrame) {
-        if (!ev.frame.has_features()) {
+        if (ev.frame.has_image()) {
+          const auto& im = ev.frame.image;
+          auto& copy = images.emplace_back(static_cast<std::size_t>(im.width * im.height));
+          for (int y = 0; y < im.height; ++y) {
+            std::memcpy(copy.data() + static_cast<std::size_t>(y * im.width), im.row(y),
+                        static_cast<std::size_t>(im.width));
+          }
+          ev.frame.image = hal::GrayImageView{copy.data(), im.width, im.height, im.width};
+        }
+        if (ev.frame.has_features()) {
+          source.features.emplace_back(ev.frame.features,
+                                       ev.frame.features + ev.frame.feature_count);
+          ev.frame.features = source.features.back().data();
+        } else if (!ev.frame.has_image()) {
           continue;
         }
-        source.features.emplace_back(ev.frame.features, ev.frame.features + ev.frame.feature_count);
-        ev.frame.features = source.features.back().data();
-        ev.frame.image = hal::GrayImageView{};
       }
       source.items.push_back({ev.kind == hal::SensorEvent::Kind::kGyro      ? ev.gyro.t_ns
                               : ev.kind == hal::SensorEvent::Kind::kEncoder ? ev.encoder.t_ns
@@ -124,6 +140,42 @@ TEST(SlamLoop, NoHeapAllocationAfterStartupWithTheEkf) {
   std::free(p);
   EXPECT_EQ(mallocs() - before, 1U);
 #endif
+}
+
+// Rendered images through the front end's frame pipeline: a frame takes several loop iterations
+// of one bounded step each, landmarks are tracked and fused, and nothing is allocated.
+TEST(SlamLoop, ImageFramesGoThroughThePipelineInBoundedStepsWithoutAllocation) {
+  SimulatedRun run(15.0, true);
+  ASSERT_TRUE(run.ok);
+  ASSERT_FALSE(run.images.empty());
+  FirmwareConfig config;
+  config.calibration = run.calibration;
+  SlamEstimator estimator(config);
+  Loop loop(config.loop, estimator);
+  loop.add_source(&run.source);
+  const hal::TimeNs t0 = run.source.items.front().due;
+  const hal::TimeNs t1 = run.source.items.back().due;
+  loop.start(t0);
+  std::size_t news = 0;
+  std::size_t raw = 0;
+  std::uint64_t iterations_with_frame_work = 0;
+  {
+    const std::size_t m0 = mallocs();
+    test::AllocationScope scope;
+    for (hal::TimeNs t = t0; t <= t1 + hal::kNsPerSecond; t += 5 * hal::kNsPerMillisecond) {
+      iterations_with_frame_work += loop.frame_work_pending() ? 1 : 0;
+      loop.iterate(t);
+    }
+    news = scope.count();
+    raw = mallocs() - m0;
+  }
+  EXPECT_EQ(news, 0U);
+  EXPECT_EQ(raw, 0U);
+  EXPECT_EQ(estimator.image_frames(), loop.stats().frames_done);
+  EXPECT_GE(loop.stats().frames_done, 25U);
+  EXPECT_GT(iterations_with_frame_work, 3 * loop.stats().frames_done);  // several steps a frame
+  EXPECT_GT(estimator.ekf().counters().updates_applied, 10U);
+  EXPECT_GT(estimator.ekf().landmark_count(), 5);
 }
 
 // The estimator on the loop is deterministic: two runs, the same poses bit for bit.

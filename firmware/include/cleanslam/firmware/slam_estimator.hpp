@@ -2,11 +2,14 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 
 #include "cleanslam/firmware/config.hpp"
 #include "cleanslam/firmware/estimator.hpp"
 #include "cleanslam/slam_core/dead_reckoner.hpp"
 #include "cleanslam/slam_core/ekf.hpp"
+#include "cleanslam/slam_core/frontend/ekf_adapter.hpp"
+#include "cleanslam/slam_core/frontend/frame_pipeline.hpp"
 #include "cleanslam/slam_core/frontend/jcbb.hpp"
 
 namespace cleanslam::firmware {
@@ -17,8 +20,9 @@ namespace cleanslam::firmware {
 // with fewer than frontend.min_inliers, Section 3.5), unseen ids are initialized undelayed
 // (eq. 39-45). Nothing is fused while the robot stands still (Section 2.4). All storage is
 // allocated by the constructor.
-// Image-only frames (no features) need the front end's frame pipeline, which is not wired yet:
-// they are counted in image_frames_ignored() and leave the estimate to dead reckoning.
+// Image frames without features go through the front end's resumable FramePipeline (Harris,
+// search regions, LK tracking, JCBB, update, map management, initialization), one bounded step
+// per loop iteration; it tracks but does not update while standing still.
 class SlamEstimator final : public Estimator {
  public:
   explicit SlamEstimator(const FirmwareConfig& config);
@@ -36,10 +40,12 @@ class SlamEstimator final : public Estimator {
   int landmarks(LandmarkEstimate* out, int max) const override;
 
   [[nodiscard]] const slam_core::Ekf& ekf() const { return ekf_; }
-  [[nodiscard]] std::uint64_t image_frames_ignored() const { return image_frames_ignored_; }
+  [[nodiscard]] std::uint64_t image_frames() const { return image_frames_; }
+  [[nodiscard]] const slam_core::frontend::FramePipeline& pipeline() const { return *pipeline_; }
 
  private:
   void process_features();
+  void collect_image_records();
   int slot_of(std::int64_t track_id) const;
   void record(const hal::FeatureObservation& f, hal::log::UpdateStatus status, int slot);
 
@@ -47,6 +53,11 @@ class SlamEstimator final : public Estimator {
   slam_core::DeadReckoner dr_;
   slam_core::Ekf ekf_;
   slam_core::frontend::Jcbb jcbb_;
+  std::unique_ptr<slam_core::frontend::FramePipeline> pipeline_;  // allocated once, here
+  slam_core::frontend::EkfAdapter<slam_core::Ekf, slam_core::Observation,
+                                  slam_core::PixelPrediction>
+      adapter_;
+  bool image_mode_ = false;
   hal::TimeNs camera_offset_ns_ = 0;
   hal::TimeNs predicted_to_ns_ = -1;
   std::array<std::int64_t, hal::kMaxLandmarks> slot_owner_{};  // track id per slot, -1: free
@@ -55,7 +66,7 @@ class SlamEstimator final : public Estimator {
   bool frame_done_ = true;
   std::array<hal::log::UpdateRecord, hal::kMaxFeaturesPerFrame> records_{};
   int record_count_ = 0;
-  std::uint64_t image_frames_ignored_ = 0;
+  std::uint64_t image_frames_ = 0;
 
   // Per-frame workspaces.
   static constexpr int kMaxObs = hal::kMaxObservationsPerFrame;
