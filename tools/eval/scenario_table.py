@@ -117,10 +117,9 @@ def markdown(scenario, seeds, configs, results, failures):
         ates, nees = columns[n]
         mean += [_f(statistics.fmean(ates) if ates else None, ".3f"),
                  _f(statistics.fmean(nees) if nees else None, ".3g")]
-        wins = sum(1 for seed in seeds if (scenario, seed, n) in results and
-                   results[(scenario, seed, n)]["slam_ate_m"] <
-                   results[(scenario, seed, n)]["dr_ate_m"])
-        beats.append(f"{n} {wins}/{len(seeds)}")
+        ran = [results[(scenario, seed, n)] for seed in seeds if (scenario, seed, n) in results]
+        wins = sum(1 for r in ran if r["slam_ate_m"] < r["dr_ate_m"])
+        beats.append(f"{n} {wins}/{len(ran)}")
     lines.append("| " + " | ".join(mean) + " |")
     lines.append("")
     lines.append("SLAM ATE in bold where it beats dead reckoning; SLAM better than DR: " +
