@@ -1,0 +1,129 @@
+#!/usr/bin/python3
+"""tools/eval/monte_carlo.py and scenario_table.py on short simulated runs: output format, exit
+status, failures reported, the script's per-pose NEES equal to cleanslam-eval's, chi-square band.
+Not accuracy. Arguments: EMULATOR (may be empty) BIN_DIR WORK_DIR."""
+
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+EVAL = os.path.join(HERE, "..", "..", "tools", "eval")
+sys.path.insert(0, EVAL)
+import monte_carlo  # noqa: E402
+
+emulator, bin_dir, work = sys.argv[1], sys.argv[2], sys.argv[3]
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+failures = []
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print(f"FAIL: {what}", file=sys.stderr)
+
+
+def run(script, *args):
+    cmd = [sys.executable, os.path.join(EVAL, script), "--bin", bin_dir, "--emulator", emulator,
+           *args]
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
+    print(f"$ {' '.join(cmd)}\n-> {p.returncode}\n{p.stdout}{p.stderr}", file=sys.stderr)
+    return p
+
+
+# Chi-square band: N = 1 gives cleanslam-eval's per-pose bounds; large N agrees with
+# Wilson-Hilferty; the band narrows around 3 as N grows.
+lo1, hi1 = monte_carlo.anees_band(1)
+check(abs(lo1 - 0.2158) < 1e-3 and abs(hi1 - 9.3484) < 1e-3, f"band N=1: {lo1} {hi1}")
+for n in (20, 50, 200):
+    k = 3 * n
+    for p, z in ((0.025, -1.959964), (0.975, 1.959964)):
+        wh = k * (1 - 2 / (9 * k) + z * math.sqrt(2 / (9 * k))) ** 3
+        got = monte_carlo.chi2_ppf(p, k)
+        check(abs(got - wh) / wh < 2e-3, f"chi2_ppf({p}, {k}) = {got}, Wilson-Hilferty {wh}")
+lo50, hi50 = monte_carlo.anees_band(50)
+check(lo1 < lo50 < 3 < hi50 < hi1, f"band N=50 {lo50} {hi50} not inside N=1's around 3")
+
+# Five short runs, JSON.
+short = ["--sim-set", "duration_s=40"]
+p = run("monte_carlo.py", "default-room", "--runs", "5", "--first-seed", "3", "--jobs", "2",
+        *short, "--out", os.path.join(work, "mc"), "--json")
+check(p.returncode == 0, f"monte_carlo --json exit status {p.returncode}")
+try:
+    out = json.loads(p.stdout)
+except json.JSONDecodeError as e:
+    out = None
+    check(False, f"monte_carlo --json: not JSON: {e}")
+if out:
+    runs = out["runs"]
+    check([r["seed"] for r in runs] == [3, 4, 5, 6, 7], f"seeds {[r['seed'] for r in runs]}")
+    for r in runs:
+        for key in ("path_length_m", "dr_ate_m", "slam_ate_m", "dr_final_m", "slam_final_m",
+                    "nees_mean", "final_pose_nees", "pose_nees_mean"):
+            check(isinstance(r.get(key), float) and math.isfinite(r[key]) and r[key] >= 0,
+                  f"seed {r['seed']}: {key} = {r.get(key)}")
+        if isinstance(r.get("pose_nees_mean"), float) and isinstance(r.get("nees_mean"), float):
+            check(abs(r["pose_nees_mean"] - r["nees_mean"]) <= 1e-5 * max(1.0, r["nees_mean"]),
+                  f"seed {r['seed']}: script NEES {r['pose_nees_mean']} != eval {r['nees_mean']}")
+        check(os.path.isfile(os.path.join(work, "mc", f"seed_{r['seed']}", "run",
+                                          "trajectory.tum")), f"--out keeps seed {r['seed']}")
+    s = out["summary"]
+    check(s["runs"] == 5, "summary runs")
+    check(abs(s["anees_band_95"][0] - monte_carlo.anees_band(5)[0]) < 1e-9, "summary band")
+    check(0 <= s["slam_beats_dr_ate"] <= 5, "slam_beats_dr_ate")
+    med = sorted(r["slam_ate_m"] for r in runs)[2]
+    check(abs(s["slam_ate_m"]["median"] - med) < 1e-12, "median SLAM ATE")
+    check(abs(s["nees_per_dof"] * 3 - s["nees_mean_all_poses"]) < 1e-9, "NEES per dof")
+    check(s["anees_time_steps"] >= 30, f"anees_time_steps {s['anees_time_steps']}")
+    check(out["failures"] == {}, "no failures")
+
+# Text output (and a plot).
+png = os.path.join(work, "mc.png")
+p = run("monte_carlo.py", "default-room", "--runs", "5", *short, "--plot", png)
+check(p.returncode == 0, f"monte_carlo text exit status {p.returncode}")
+rows = [ln for ln in p.stdout.splitlines()
+        if re.fullmatch(r"\s*\d+(\s+-?\d+\.\d+){5}\s+\S+\s+\S+", ln)]
+check(len(rows) == 5, f"{len(rows)} per-run rows, expected 5")
+check(re.search(r"SLAM beat DR in \d/5 runs by ATE", p.stdout) is not None, "beat line")
+check(re.search(r"95 % band of the average over 5 runs: \[1\.25\d, 5\.49\d\]", p.stdout)
+      is not None, "band line")
+check("per dof" in p.stdout, "per-dof line")
+check(os.path.getsize(png) > 1000 if os.path.exists(png) else False, "plot written")
+check(re.search(r"\[5/5\] seed \d done", p.stderr) is not None, "progress on stderr")
+
+# Failures are reported with a non-zero exit status.
+p = run("monte_carlo.py", "default-room", "--runs", "2", *short, "--set", "filter.no_such_key=1")
+check(p.returncode == 1 and "unknown key" in p.stdout + p.stderr,
+      f"unknown replay key: exit {p.returncode}")
+p = run("monte_carlo.py", "no-such-scenario", "--runs", "1")
+check(p.returncode == 1 and "FAILED" in p.stdout, f"unknown scenario: exit {p.returncode}")
+p = subprocess.run([sys.executable, os.path.join(EVAL, "monte_carlo.py"), "default-room",
+                    "--runs", "1", "--bin", os.path.join(work, "empty")],
+                   stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
+check(p.returncode == 1 and "cleanslam-sim" in p.stderr, f"missing programs: exit {p.returncode}")
+p = run("monte_carlo.py", "default-room", "--runs", "0")
+check(p.returncode == 2, f"--runs 0: exit {p.returncode}")
+
+# Scenario table: two configurations, Markdown.
+p = run("scenario_table.py", "--seeds", "1-2", "--sim-set", "duration_s=60", "--config",
+        "defaults", "--config", "gate1:frontend.min_inliers=1,filter.eps_ct_m=100")
+check(p.returncode == 0, f"scenario_table exit status {p.returncode}")
+check("| seed | path m | DR ATE m | SLAM ATE m (defaults) | NEES (defaults) | "
+      "SLAM ATE m (gate1) | NEES (gate1) |" in p.stdout, "table header")
+for seed in ("1", "2", "mean"):
+    check(re.search(rf"^\| {seed} \|( [^|]+ \|){{6}}$", p.stdout, re.M) is not None,
+          f"table row {seed}")
+check("`frontend.min_inliers=1`, `filter.eps_ct_m=100`" in p.stdout, "config listed")
+p = run("scenario_table.py", "--seeds", "1", "--sim-set", "duration_s=30", "--config",
+        "x:frontend.no_such=1")
+check(p.returncode == 1 and "FAILED" in p.stdout, f"table bad key: exit {p.returncode}")
+p = run("scenario_table.py", "--config", "bad name:a=1")
+check(p.returncode == 2, f"table bad config name: exit {p.returncode}")
+
+print(f"{len(failures)} failure(s)" if failures else "all checks passed", file=sys.stderr)
+sys.exit(1 if failures else 0)

@@ -1,0 +1,216 @@
+#!/usr/bin/python3
+"""Markdown table of SLAM against dead reckoning on fixed seeds, one column group per named
+estimator configuration, to show what each mechanism does with and without it.
+
+  tools/eval/scenario_table.py [--config NAME:key=value,key=value ...] [--default-room]
+                               [--seeds 1-10] [--jobs J] [--out DIR] [--json]
+
+Each dataset (sparse-poor-odometry, and default-room with --default-room, seeds --seeds) is
+simulated once and replayed with every configuration; keys are cleanslam-replay --set keys
+(section.key=value, see firmware/config/cleanslam.sample.yaml). Without --config one
+configuration, "defaults", with no override. Progress on stderr, the table on stdout.
+Exit status 0 unless a run failed to execute (1) or the arguments are wrong (2).
+"""
+
+import argparse
+import json
+import os
+import shlex
+import shutil
+import statistics
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import monte_carlo as mc  # noqa: E402
+
+
+def split_top_level(text, sep=","):
+    """Splits at sep outside brackets and braces, so list values like [1,2] stay whole."""
+    parts, depth, cur = [], 0, ""
+    for ch in text:
+        if ch in "[{":
+            depth += 1
+        elif ch in "]}":
+            depth -= 1
+        if ch == sep and depth == 0:
+            parts.append(cur)
+            cur = ""
+        else:
+            cur += ch
+    parts.append(cur)
+    return [p.strip() for p in parts if p.strip()]
+
+
+def parse_config(text):
+    name, _, rest = text.partition(":")
+    name = name.strip()
+    if not name or not all(c.isalnum() or c in "-_+." for c in name):
+        raise ValueError(f"--config '{text}': expected NAME:key=value,key=value or NAME, "
+                         "NAME of letters, digits and -_+.")
+    sets = split_top_level(rest)
+    for kv in sets:
+        if "=" not in kv or not kv.split("=", 1)[0].strip():
+            raise ValueError(f"--config '{text}': '{kv}' is not key=value")
+    return name, sets
+
+
+def parse_seeds(text):
+    seeds = []
+    for part in text.split(","):
+        lo, dash, hi = part.partition("-")
+        try:
+            seeds += list(range(int(lo), int(hi) + 1)) if dash else [int(lo)]
+        except ValueError:
+            raise ValueError(f"--seeds '{text}': expected e.g. 1-10 or 1,3,5") from None
+    if not seeds:
+        raise ValueError(f"--seeds '{text}': no seed")
+    return seeds
+
+
+def _f(x, fmt):
+    return "–" if x is None else format(x, fmt)
+
+
+def markdown(scenario, seeds, configs, results, failures):
+    names = [n for n, _ in configs]
+    lines = [f"### {scenario}", ""]
+    for n, sets in configs:
+        lines.append(f"- **{n}**: " + (", ".join(f"`{s}`" for s in sets) if sets else
+                                        "current defaults"))
+    lines.append("")
+    head = ["seed", "path m", "DR ATE m"]
+    for n in names:
+        head += [f"SLAM ATE m ({n})", f"NEES ({n})"]
+    lines.append("| " + " | ".join(head) + " |")
+    lines.append("|" + "|".join(["---:"] * len(head)) + "|")
+    columns = {n: ([], []) for n in names}
+    path_all, dr_all = [], []
+    for seed in seeds:
+        ref = next((results.get((scenario, seed, n)) for n in names
+                    if (scenario, seed, n) in results), None)
+        if (scenario, seed) in failures:
+            lines.append(f"| {seed} | simulation failed | | " + " | ".join([""] * 2 * len(names))
+                         + " |")
+            continue
+        row = [str(seed), _f(ref and ref["path_length_m"], ".1f"), _f(ref and ref["dr_ate_m"],
+                                                                    ".3f")]
+        if ref:
+            path_all.append(ref["path_length_m"])
+            dr_all.append(ref["dr_ate_m"])
+        for n in names:
+            r = results.get((scenario, seed, n))
+            if r is None:
+                row += ["failed", "failed"]
+                continue
+            columns[n][0].append(r["slam_ate_m"])
+            if r["nees_mean"] is not None:
+                columns[n][1].append(r["nees_mean"])
+            ate = _f(r["slam_ate_m"], ".3f")
+            row += [f"**{ate}**" if r["slam_ate_m"] < r["dr_ate_m"] else ate,
+                    _f(r["nees_mean"], ".3g")]
+        lines.append("| " + " | ".join(row) + " |")
+    mean = ["mean", _f(statistics.fmean(path_all) if path_all else None, ".1f"),
+            _f(statistics.fmean(dr_all) if dr_all else None, ".3f")]
+    beats = []
+    for n in names:
+        ates, nees = columns[n]
+        mean += [_f(statistics.fmean(ates) if ates else None, ".3f"),
+                 _f(statistics.fmean(nees) if nees else None, ".3g")]
+        ran = [results[(scenario, seed, n)] for seed in seeds if (scenario, seed, n) in results]
+        wins = sum(1 for r in ran if r["slam_ate_m"] < r["dr_ate_m"])
+        beats.append(f"{n} {wins}/{len(ran)}")
+    lines.append("| " + " | ".join(mean) + " |")
+    lines.append("")
+    lines.append("SLAM ATE in bold where it beats dead reckoning; SLAM better than DR: " +
+                 ", ".join(beats) + ". NEES: mean position NEES over the run's poses (3 if "
+                 "consistent). ATE RMSE with --align none.")
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--config", action="append", default=[], metavar="NAME:K=V,K=V",
+                    help="a named configuration (repeatable); NAME alone: the defaults")
+    ap.add_argument("--scenario", default="sparse-poor-odometry")
+    ap.add_argument("--default-room", action="store_true", help="also the default-room seeds")
+    ap.add_argument("--seeds", default="1-10", help="seeds, e.g. 1-10 or 1,4,7 (default 1-10)")
+    ap.add_argument("--sim-set", dest="sim_sets", action="append", default=[], metavar="K=V",
+                    help="cleanslam-sim --set key=value for every dataset (repeatable)")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--out", help="keep datasets and runs here (default: temporary)")
+    ap.add_argument("--json", action="store_true", help="one JSON object instead of Markdown")
+    ap.add_argument("--bin", default=mc.DEFAULT_BIN)
+    ap.add_argument("--emulator", default="", help="command prefix for the programs")
+    a = ap.parse_args(argv)
+    try:
+        configs = [parse_config(c) for c in a.config] or [("defaults", [])]
+        seeds = parse_seeds(a.seeds)
+    except ValueError as e:
+        ap.error(str(e))
+    names = [n for n, _ in configs]
+    if len(set(names)) != len(names):
+        ap.error("--config: configuration names must differ: " + ", ".join(names))
+    for kv in a.sim_sets:
+        if "=" not in kv:
+            ap.error(f"--sim-set '{kv}': expected key=value")
+    try:
+        tools = mc.find_tools(a.bin)
+    except mc.RunError as e:
+        print(f"scenario_table: {e}", file=sys.stderr)
+        return 1
+    emulator = shlex.split(a.emulator)
+    scenarios = [a.scenario] + (["default-room"] if a.default_room else [])
+    work = os.path.abspath(a.out) if a.out else tempfile.mkdtemp(prefix="cleanslam_table_")
+    os.makedirs(work, exist_ok=True)
+
+    def ds_dir(sc, seed):
+        return os.path.join(work, f"{sc}_seed_{seed}", "dataset")
+
+    def log(sc, seed):
+        return os.path.join(work, f"{sc}_seed_{seed}", "log.txt")
+
+    try:
+        sim_tasks = []
+        for sc in scenarios:
+            for seed in seeds:
+                os.makedirs(os.path.dirname(ds_dir(sc, seed)), exist_ok=True)
+                sim_tasks.append(((sc, seed), lambda sc=sc, seed=seed: mc.simulate(
+                    tools, sc, seed, ds_dir(sc, seed), a.sim_sets, emulator, log(sc, seed))))
+        _, sim_failures = mc.run_parallel(a.jobs, sim_tasks, "simulate")
+        run_tasks = []
+        for sc in scenarios:
+            for seed in seeds:
+                if (sc, seed) in sim_failures:
+                    continue
+                for name, sets in configs:
+                    run_dir = os.path.join(work, f"{sc}_seed_{seed}", f"run_{name}")
+                    run_tasks.append(((sc, seed, name), lambda sc=sc, seed=seed, run_dir=run_dir,
+                                      sets=sets: mc.replay_and_evaluate(
+                                          tools, ds_dir(sc, seed), run_dir, sets, emulator,
+                                          log(sc, seed))))
+        results, run_failures = mc.run_parallel(a.jobs, run_tasks, "replay")
+    finally:
+        if not a.out:
+            shutil.rmtree(work, ignore_errors=True)
+
+    if a.json:
+        rows = [{"scenario": k[0], "seed": k[1], "config": k[2]} |
+                {f: v for f, v in r.items() if f not in ("pose_nees_times_s", "pose_nees")}
+                for k, r in sorted(results.items())]
+        json.dump({"configs": dict(configs), "seeds": seeds, "scenarios": scenarios, "rows": rows,
+                   "failures": [{"what": list(k), "error": v} for k, v in
+                                list(sim_failures.items()) + list(run_failures.items())]},
+                  sys.stdout, indent=1)
+        print()
+    else:
+        print("\n\n".join(markdown(sc, seeds, configs, results, sim_failures)
+                          for sc in scenarios))
+        for k, v in list(sim_failures.items()) + list(run_failures.items()):
+            print(f"\nFAILED {' '.join(map(str, k))}: {v}")
+    return 1 if sim_failures or run_failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
