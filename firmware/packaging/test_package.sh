@@ -79,7 +79,7 @@ if [ "$run_dataset" != "--run-dataset" ]; then
   echo "package test: PASS (contents; no dataset run asked)"
   exit 0
 fi
-sim="$build/tools/sim/cleanslam-sim"
+sim="${CLEANSLAM_SIM:-$build/bin/cleanslam-sim}"
 [ -x "$sim" ] || fail "no $sim to make a dataset"
 "${qemu[@]}" "$sim" corridor "$work/dataset" --set duration_s=6 >"$work/sim.log" 2>&1 ||
   "${qemu[@]}" "$sim" corridor "$work/dataset" >"$work/sim.log" 2>&1 ||
