@@ -111,7 +111,16 @@ void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt,
   F(0, 2) = -distance * s;
   F(1, 2) = distance * c;
   const Eigen::Vector3d g_yaw(-0.5 * distance * s, 0.5 * distance * c, 1.0);
-  in.cov = F * in.cov * F.transpose() + yaw_var * g_yaw * g_yaw.transpose();
+  if (gyro) {
+    const double bi = calibration_.gyro.bias_instability;
+    const double sg = config_.gyro_scale_error;
+    yaw_var += bi * bi * config_.gyro_bias_correlation_time_s * std::abs(dt) + sg * sg * dyaw * dyaw;
+  }
+  const Eigen::Vector3d g_dist(c, s, 0.0);
+  const double k = calibration_.wheels.distance_noise;
+  in.cov = F * in.cov * F.transpose() + yaw_var * g_yaw * g_yaw.transpose() +
+           k * k * config_.distance_scale_correlation_m * std::abs(distance) * g_dist *
+               g_dist.transpose();
   in.d_scale = F * in.d_scale + distance * Eigen::Vector3d(c, s, 0.0);
   in.d_bias = F * in.d_bias;
   if (gyro) {

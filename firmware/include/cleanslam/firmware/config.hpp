@@ -20,6 +20,15 @@ struct FilterSettings {
   int max_landmarks = 128;       // slots in use at most (<= hal::kMaxLandmarks)
   // Heading from the encoders alone while the gyro is silent: random walk per sqrt(metre).
   double encoder_yaw_noise_rad_per_sqrt_m = 0.03;
+  // Consider (Schmidt) update while a landmark's relative depth std. dev. exceeds the fraction.
+  bool consider_young_landmarks = true;
+  double young_depth_std_fraction = 0.1;
+  // Depth bound of updates along the optical axis (the workspace's size), 0: none.
+  double max_depth_m = 0.0;
+  // Prediction noise of persistent odometry errors (slam_core::DeadReckoningConfig), 0: off.
+  double gyro_bias_correlation_time_s = 10.0;
+  double distance_scale_correlation_m = 0.0;
+  double gyro_scale_error = 0.005;
 };
 
 struct FrontendSettings {

@@ -41,6 +41,15 @@ struct DeadReckoningConfig {
   // take_increment() extrapolates the last wheel speed at most this far past the last encoder
   // sample (and no further back than this before it).
   double max_extrapolation_s = 0.2;
+  // Errors that persist across increments (the within-increment terms above treat them as
+  // independent per increment), inflated by their correlation time or length: the gyro bias
+  // (std. dev. gyro.bias_instability) adds bias_instability^2 * T * dt to the heading variance,
+  // the distance scale (std. dev. wheels.distance_noise) adds distance_noise^2 * L * |d| along
+  // the track; 0 disables either.
+  double gyro_bias_correlation_time_s = 0.0;
+  double distance_scale_correlation_m = 0.0;
+  // Relative gyro scale error: heading variance (gyro_scale_error * dyaw)^2 per step.
+  double gyro_scale_error = 0.0;
 };
 
 struct DeadReckonerCounters {
