@@ -34,7 +34,7 @@ slam_core::DeadReckoningConfig dead_reckoning_config(const FirmwareConfig& c) {
 
 slam_core::frontend::JcbbConfig jcbb_config(const FirmwareConfig& c) {
   slam_core::frontend::JcbbConfig j;
-  j.min_inliers = c.frontend.min_inliers;
+  j.min_inliers = c.frontend.features_min_inliers;
   return j;
 }
 

@@ -495,7 +495,7 @@ ObservationResult Ekf::fuse(int m) {
   if (!dx_.allFinite()) {
     return ObservationResult::kNonFinite;
   }
-  if (depth_bounds_violated(m)) {
+  if (config_.depth_bounds && depth_bounds_violated(m)) {
     dx_.resize(kMaxStateDim);
     return ObservationResult::kDepthBound;
   }

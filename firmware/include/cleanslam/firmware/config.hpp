@@ -22,8 +22,10 @@ struct FilterSettings {
   double encoder_yaw_noise_rad_per_sqrt_m = 0.03;
   // Consider (Schmidt) update while a landmark's relative depth std. dev. exceeds the fraction.
   bool consider_young_landmarks = true;
-  double young_depth_std_fraction = 0.1;
-  // Depth bound of updates along the optical axis (the workspace's size), 0: none.
+  double young_depth_std_fraction = 0.3;
+  // Depth bounds of updates along the optical axis: in front of the camera, and within
+  // max_depth_m (the workspace's size, 0: no upper bound).
+  bool depth_bounds = true;
   double max_depth_m = 0.0;
   // Prediction noise of persistent odometry errors (slam_core::DeadReckoningConfig), 0: off.
   double gyro_bias_correlation_time_s = 10.0;
@@ -33,6 +35,8 @@ struct FilterSettings {
 
 struct FrontendSettings {
   int min_inliers = 3;  // no visual update with fewer (Section 3.3)
+  // The same for frames with tracked features (ids known, no data association to confirm).
+  int features_min_inliers = 1;
   // Standing still (no visual update, Section 2.4): no tick and |yaw rate - bias| below this
   // for standstill_window_s.
   double standstill_rate_rad_s = 0.02;

@@ -48,7 +48,7 @@ struct DeadReckoningConfig {
   // the track; 0 disables either.
   double gyro_bias_correlation_time_s = 0.0;
   double distance_scale_correlation_m = 0.0;
-  // Relative gyro scale error: heading variance (gyro_scale_error * dyaw)^2 per step.
+  // Relative gyro scale error, one value within an increment (like the distance scale).
   double gyro_scale_error = 0.0;
 };
 
@@ -103,6 +103,7 @@ class DeadReckoner {
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
     Eigen::Vector3d d_scale = Eigen::Vector3d::Zero();  // d(x, y, yaw) / d(distance scale error)
     Eigen::Vector3d d_bias = Eigen::Vector3d::Zero();   // d(x, y, yaw) / d(gyro bias)
+    Eigen::Vector3d d_gyro_scale = Eigen::Vector3d::Zero();  // d(x, y, yaw) / d(gyro scale)
     double distance = 0.0;
     double wheel_travel = 0.0;
     bool gyro_used = true;

@@ -35,10 +35,11 @@ struct EkfConfig {
   // only the landmark itself (the gain rows of the pose and of the other landmarks are zero), so
   // the linearization error of its unknown depth (eq. 23's lever arm) cannot corrupt the pose.
   bool consider_young_landmarks = true;
-  double young_depth_std_fraction = 0.1;
+  double young_depth_std_fraction = 0.3;
   // Depth bounds: an update that would move an observed landmark closer than min_depth_m or
-  // farther than max_depth_m along the optical axis drops that observation (kDepthBound) and the
-  // rest is fused again; 0 disables the upper bound.
+  // farther than max_depth_m (0: no upper bound) along the optical axis drops that observation
+  // (kDepthBound) and the rest is fused again.
+  bool depth_bounds = true;
   double max_depth_m = 0.0;
   // Smallest variance allowed on the diagonal of P after an update (the PSD guard).
   double min_variance = 1e-12;
