@@ -138,8 +138,8 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     Section f = top.sub("frontend");
     auto& x = cfg.frontend;
     x.min_inliers = f.integer("min_inliers", x.min_inliers, 1, hal::kMaxObservationsPerFrame);
-    x.features_min_inliers = f.integer("features_min_inliers", x.features_min_inliers, 1,
-                                       hal::kMaxObservationsPerFrame);
+    x.features_min_inliers =
+        f.integer("features_min_inliers", x.features_min_inliers, 1, hal::kMaxObservationsPerFrame);
     x.standstill_rate_rad_s = f.number("standstill_rate_rad_s", x.standstill_rate_rad_s, 0.0, 1.0);
     x.standstill_window_s = f.number("standstill_window_s", x.standstill_window_s, 0.05, 10.0);
     f.done();

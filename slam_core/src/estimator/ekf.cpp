@@ -518,8 +518,7 @@ bool Ekf::depth_bounds_violated(int m) {
   bool any = false;
   for (int j = 0; j < m; ++j) {
     const auto js = static_cast<std::size_t>(j);
-    const int slot =
-        status_.observations[static_cast<std::size_t>(fuse_obs_[js])].slot;
+    const int slot = status_.observations[static_cast<std::size_t>(fuse_obs_[js])].slot;
     const int lm = row_of(slot);
     const Eigen::Vector3d y = x_.segment<3>(lm) + dx_.segment<3>(lm);
     const double depth = predict_camera_point(pose, y).x();

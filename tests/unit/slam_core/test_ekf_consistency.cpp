@@ -177,7 +177,8 @@ NeesSummary monte_carlo(bool known_depth, double young_fraction) {
   std::array<double, kSteps> mean{};
   NeesSummary out;
   for (int r = 0; r < kRuns; ++r) {
-    const RunResult res = run_once(1000U + static_cast<std::uint32_t>(r), known_depth, young_fraction);
+    const RunResult res =
+        run_once(1000U + static_cast<std::uint32_t>(r), known_depth, young_fraction);
     for (int k = 0; k < kSteps; ++k) {
       mean[static_cast<std::size_t>(k)] += res.nees[static_cast<std::size_t>(k)] / kRuns;
     }
@@ -195,8 +196,7 @@ NeesSummary monte_carlo(bool known_depth, double young_fraction) {
       "%s, consider below %.2f: per-step band [%.2f, %.2f], steps inside %d/%d, average pose "
       "NEES %.3f, observations fused %ld\n",
       known_depth ? "known depth" : "undelayed init", young_fraction, lo, hi, out.inside, kSteps,
-      out.overall,
-      out.fused);
+      out.overall, out.fused);
   return out;
 }
 
