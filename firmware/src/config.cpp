@@ -122,12 +122,24 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.max_landmarks = f.integer("max_landmarks", x.max_landmarks, 1, hal::kMaxLandmarks);
     x.encoder_yaw_noise_rad_per_sqrt_m = f.number(
         "encoder_yaw_noise_rad_per_sqrt_m", x.encoder_yaw_noise_rad_per_sqrt_m, 0.0, 10.0, true);
+    x.consider_young_landmarks = f.flag("consider_young_landmarks", x.consider_young_landmarks);
+    x.young_depth_std_fraction =
+        f.number("young_depth_std_fraction", x.young_depth_std_fraction, 0.0, 10.0, true);
+    x.depth_bounds = f.flag("depth_bounds", x.depth_bounds);
+    x.max_depth_m = f.number("max_depth_m", x.max_depth_m, 0.0, 1e4);
+    x.gyro_bias_correlation_time_s =
+        f.number("gyro_bias_correlation_time_s", x.gyro_bias_correlation_time_s, 0.0, 1e5);
+    x.distance_scale_correlation_m =
+        f.number("distance_scale_correlation_m", x.distance_scale_correlation_m, 0.0, 1e5);
+    x.gyro_scale_error = f.number("gyro_scale_error", x.gyro_scale_error, 0.0, 1.0);
     f.done();
   }
   {
     Section f = top.sub("frontend");
     auto& x = cfg.frontend;
     x.min_inliers = f.integer("min_inliers", x.min_inliers, 1, hal::kMaxObservationsPerFrame);
+    x.features_min_inliers =
+        f.integer("features_min_inliers", x.features_min_inliers, 1, hal::kMaxObservationsPerFrame);
     x.standstill_rate_rad_s = f.number("standstill_rate_rad_s", x.standstill_rate_rad_s, 0.0, 1.0);
     x.standstill_window_s = f.number("standstill_window_s", x.standstill_window_s, 0.05, 10.0);
     f.done();
@@ -327,9 +339,17 @@ std::string config_text(const FirmwareConfig& c) {
     << "  eps_cal_px: " << fmt(f.eps_cal_px) << "\n"
     << "  gate_chi2: " << fmt(f.gate_chi2) << "\n"
     << "  max_landmarks: " << f.max_landmarks << "\n"
-    << "  encoder_yaw_noise_rad_per_sqrt_m: " << fmt(f.encoder_yaw_noise_rad_per_sqrt_m) << "\n";
+    << "  encoder_yaw_noise_rad_per_sqrt_m: " << fmt(f.encoder_yaw_noise_rad_per_sqrt_m) << "\n"
+    << "  consider_young_landmarks: " << (f.consider_young_landmarks ? "true" : "false") << "\n"
+    << "  young_depth_std_fraction: " << fmt(f.young_depth_std_fraction) << "\n"
+    << "  depth_bounds: " << (f.depth_bounds ? "true" : "false") << "\n"
+    << "  max_depth_m: " << fmt(f.max_depth_m) << "\n"
+    << "  gyro_bias_correlation_time_s: " << fmt(f.gyro_bias_correlation_time_s) << "\n"
+    << "  distance_scale_correlation_m: " << fmt(f.distance_scale_correlation_m) << "\n"
+    << "  gyro_scale_error: " << fmt(f.gyro_scale_error) << "\n";
   s << "frontend:\n"
     << "  min_inliers: " << c.frontend.min_inliers << "\n"
+    << "  features_min_inliers: " << c.frontend.features_min_inliers << "\n"
     << "  standstill_rate_rad_s: " << fmt(c.frontend.standstill_rate_rad_s) << "\n"
     << "  standstill_window_s: " << fmt(c.frontend.standstill_window_s) << "\n";
   const auto& l = c.loop;

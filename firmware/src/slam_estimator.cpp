@@ -20,6 +20,10 @@ slam_core::EkfConfig ekf_config(const FirmwareConfig& c) {
   e.eps_cal_px = c.filter.eps_cal_px;
   e.gate_chi2 = c.filter.gate_chi2;
   e.max_landmarks = c.filter.max_landmarks;
+  e.consider_young_landmarks = c.filter.consider_young_landmarks;
+  e.young_depth_std_fraction = c.filter.young_depth_std_fraction;
+  e.depth_bounds = c.filter.depth_bounds;
+  e.max_depth_m = c.filter.max_depth_m;
   return e;
 }
 
@@ -29,12 +33,15 @@ slam_core::DeadReckoningConfig dead_reckoning_config(const FirmwareConfig& c) {
   d.encoder_yaw_noise_rad_per_sqrt_m = c.filter.encoder_yaw_noise_rad_per_sqrt_m;
   d.standstill_rate_rad_s = c.frontend.standstill_rate_rad_s;
   d.standstill_window_s = c.frontend.standstill_window_s;
+  d.gyro_bias_correlation_time_s = c.filter.gyro_bias_correlation_time_s;
+  d.distance_scale_correlation_m = c.filter.distance_scale_correlation_m;
+  d.gyro_scale_error = c.filter.gyro_scale_error;
   return d;
 }
 
 slam_core::frontend::JcbbConfig jcbb_config(const FirmwareConfig& c) {
   slam_core::frontend::JcbbConfig j;
-  j.min_inliers = c.frontend.min_inliers;
+  j.min_inliers = c.frontend.features_min_inliers;
   return j;
 }
 

@@ -131,9 +131,21 @@ void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt,
   F(0, 2) = -distance * s;
   F(1, 2) = distance * c;
   const Eigen::Vector3d g_yaw(-0.5 * distance * s, 0.5 * distance * c, 1.0);
-  in.cov = F * in.cov * F.transpose() + yaw_var * g_yaw * g_yaw.transpose();
+  if (gyro) {
+    const double bi = calibration_.gyro.bias_instability;
+    yaw_var += bi * bi * config_.gyro_bias_correlation_time_s * std::abs(dt);
+  }
+  const Eigen::Vector3d g_dist(c, s, 0.0);
+  const double k = calibration_.wheels.distance_noise;
+  in.cov = F * in.cov * F.transpose() + yaw_var * g_yaw * g_yaw.transpose() +
+           k * k * config_.distance_scale_correlation_m * std::abs(distance) * g_dist *
+               g_dist.transpose();
   in.d_scale = F * in.d_scale + distance * Eigen::Vector3d(c, s, 0.0);
   in.d_bias = F * in.d_bias;
+  in.d_gyro_scale = F * in.d_gyro_scale;
+  if (gyro) {
+    in.d_gyro_scale += dyaw * g_yaw;
+  }
   if (gyro) {
     in.d_bias -= dt * g_yaw;
   }
@@ -280,7 +292,9 @@ OdometryIncrement DeadReckoner::camera_increment(const Increment& in, double dt_
   const double k = calibration_.wheels.distance_noise;
   const double bi = calibration_.gyro.bias_instability;
   const Eigen::Matrix3d planar = in.cov + k * k * in.d_scale * in.d_scale.transpose() +
-                                 bi * bi * in.d_bias * in.d_bias.transpose();
+                                 bi * bi * in.d_bias * in.d_bias.transpose() +
+                                 config_.gyro_scale_error * config_.gyro_scale_error *
+                                     in.d_gyro_scale * in.d_gyro_scale.transpose();
   // Body increment covariance over (dx, dy, dz, droll, dpitch, dyaw).
   Matrix6d Pb = Matrix6d::Zero();
   const int idx[3] = {0, 1, 5};

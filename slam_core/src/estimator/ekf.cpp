@@ -38,6 +38,8 @@ const char* to_string(ObservationResult r) {
       return "invalid_slot";
     case ObservationResult::kOverCapacity:
       return "over_capacity";
+    case ObservationResult::kDepthBound:
+      return "depth_bound";
     case ObservationResult::kCount:
       break;
   }
@@ -82,6 +84,30 @@ bool Ekf::slot_used(int slot) const {
 
 bool Ekf::valid_used_slot(int slot) const {
   return slot_used(slot);
+}
+
+double Ekf::relative_depth_std(int slot) const {
+  if (!slot_used(slot)) {
+    return -1.0;
+  }
+  const int lm = row_of(slot);
+  const Eigen::Vector3d d = x_.segment<3>(lm) - x_.head<3>();
+  const double depth = d.norm();
+  if (!(depth > 0.0)) {
+    return -1.0;
+  }
+  const Eigen::Vector3d u = d / depth;
+  // Var of u^T (y - p): P_yy - P_yp - P_py + P_pp.
+  const Eigen::Matrix3d Prel = P_.block<3, 3>(lm, lm) - P_.block<3, 3>(lm, 0) -
+                               P_.block<3, 3>(0, lm) + P_.topLeftCorner<3, 3>();
+  return std::sqrt(std::max(0.0, u.dot(Prel * u))) / depth;
+}
+
+bool Ekf::young(int slot) const {
+  if (!config_.consider_young_landmarks || !slot_used(slot)) {
+    return false;
+  }
+  return relative_depth_std(slot) > config_.young_depth_std_fraction;
 }
 
 Eigen::Vector3d Ekf::landmark(int slot) const {
@@ -348,17 +374,25 @@ const UpdateStatus& Ekf::update(const Observation* obs, int count) {
     Hp_[mi] = Hp;
     Hl_[mi] = Hl;
     R_[mi] = R;
+    young_[mi] = young(o.slot);
     nu_.segment<3>(3 * m) = st.innovation;
     ++m;
   }
+  ObservationResult r = m > 0 ? fuse(m) : ObservationResult::kFused;
+  while (m > 0 && r == ObservationResult::kDepthBound) {
+    m = drop_out_of_bounds(m);
+    r = m > 0 ? fuse(m) : ObservationResult::kFused;
+  }
   if (m > 0) {
-    const ObservationResult r = fuse(m);
     for (int j = 0; j < m; ++j) {
       ObservationStatus& st =
           status_.observations[static_cast<std::size_t>(fuse_obs_[static_cast<std::size_t>(j)])];
       st.result = r;
       if (r == ObservationResult::kFused) {
         SlotInfo& info = info_[static_cast<std::size_t>(st.slot)];
+        if (young_[static_cast<std::size_t>(j)]) {
+          ++counters_.consider_observations;
+        }
         info.last_fused = update_counter_;
         ++info.fused;
         ++status_.fused;
@@ -436,6 +470,12 @@ ObservationResult Ekf::fuse(int m) {
   auto W = W_.topLeftCorner(n, 2 * k);
   auto V = V_.topLeftCorner(2 * k, n);
   W.leftCols(k).noalias() = PHt.lazyProduct(Sinv_);
+  for (int j = 0; j < m; ++j) {  // consider update: only the young landmark's own rows
+    if (young_[static_cast<std::size_t>(j)]) {
+      W.block(0, 3 * j, lms[j], 3).setZero();
+      W.block(lms[j] + 3, 3 * j, n - lms[j] - 3, 3).setZero();
+    }
+  }
   W.rightCols(k) = PHt;
   W.rightCols(k).noalias() -= 0.5 * W.leftCols(k).lazyProduct(S_);
   V.topRows(k) = W.rightCols(k).transpose();
@@ -455,6 +495,10 @@ ObservationResult Ekf::fuse(int m) {
   if (!dx_.allFinite()) {
     return ObservationResult::kNonFinite;
   }
+  if (config_.depth_bounds && depth_bounds_violated(m)) {
+    dx_.resize(kMaxStateDim);
+    return ObservationResult::kDepthBound;
+  }
   // Joseph form (eq. 26 made symmetric): P - K A - A^T K^T, lower triangle, then mirrored.
   for (int j = 0; j < n; ++j) {
     P_.col(j).segment(j, n - j).noalias() -= W.bottomRows(n - j) * V.col(j);
@@ -465,6 +509,47 @@ ObservationResult Ekf::fuse(int m) {
   x_(5) = wrap_angle(x_(5));
   dx_.resize(kMaxStateDim);
   return ObservationResult::kFused;
+}
+
+bool Ekf::depth_bounds_violated(int m) {
+  Vector6d pose = x_.head<6>() + dx_.head<6>();
+  pose(3) = wrap_angle(pose(3));
+  pose(5) = wrap_angle(pose(5));
+  bool any = false;
+  for (int j = 0; j < m; ++j) {
+    const auto js = static_cast<std::size_t>(j);
+    const int slot = status_.observations[static_cast<std::size_t>(fuse_obs_[js])].slot;
+    const int lm = row_of(slot);
+    const Eigen::Vector3d y = x_.segment<3>(lm) + dx_.segment<3>(lm);
+    const double depth = predict_camera_point(pose, y).x();
+    out_of_bounds_[js] = !(depth > config_.min_depth_m) ||
+                         (config_.max_depth_m > 0.0 && depth > config_.max_depth_m);
+    any = any || out_of_bounds_[js];
+  }
+  return any;
+}
+
+int Ekf::drop_out_of_bounds(int m) {
+  int q = 0;
+  for (int j = 0; j < m; ++j) {
+    const auto js = static_cast<std::size_t>(j);
+    if (out_of_bounds_[js]) {
+      ObservationStatus& st = status_.observations[static_cast<std::size_t>(fuse_obs_[js])];
+      st.result = ObservationResult::kDepthBound;
+      counters_.rejections.add(ObservationResult::kDepthBound);
+      ++status_.rejected;
+      continue;
+    }
+    const auto qs = static_cast<std::size_t>(q);
+    fuse_obs_[qs] = fuse_obs_[js];
+    Hp_[qs] = Hp_[js];
+    Hl_[qs] = Hl_[js];
+    R_[qs] = R_[js];
+    young_[qs] = young_[js];
+    nu_.segment<3>(3 * q) = nu_.segment<3>(3 * j);
+    ++q;
+  }
+  return q;
 }
 
 void Ekf::symmetrize_active() {

@@ -28,7 +28,12 @@
 //   Delta_j, which is metres off along the ray while the depth is unknown, and the product of that
 //   error with the orientation error (Assumption 1 of Section 2.5 is violated) exceeds eps_cn.
 //   Inflating eps_cn as the paper's experiments did (eps_cn of 10 cm) restores it: eps_cal 0.5 px
-//   gives 15, 1 px 9.9, 2 px 7.2.
+//   gives 15, 1 px 9.9, 2 px 7.2. (These figures predate the depth bounds, now on by default:
+//   with them the average is 24.2 on x86-64.)
+// - The consider (Schmidt) update of young landmarks (EkfConfig::consider_young_landmarks) fixes
+//   it: a landmark whose depth std. dev. relative to the camera exceeds young_depth_std_fraction
+//   of its depth updates only itself. Average pose NEES on x86-64 by that fraction: 0.05: 5.95
+//   (20/20 steps inside the band), 0.1: 7.5, 0.2: 13.6, 0.3: 17.4, 0.5: 19.1, off: 24.2.
 namespace cs = cleanslam::slam_core;
 namespace hal = cleanslam::hal;
 
@@ -64,7 +69,7 @@ struct RunResult {
 
 // known_depth: enter landmarks at their true depth with 0.1 m along the ray instead of the
 // assumed depth with eps_ct.
-RunResult run_once(std::uint32_t seed, bool known_depth) {
+RunResult run_once(std::uint32_t seed, bool known_depth, double young_fraction) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
   const std::vector<Eigen::Vector3d> world = make_room(rng);
@@ -74,6 +79,8 @@ RunResult run_once(std::uint32_t seed, bool known_depth) {
   config.eps_cal_px = 0.0;
   config.eps_trk_px = 0.5;
   config.max_landmarks = 24;
+  config.consider_young_landmarks = young_fraction > 0.0;
+  config.young_depth_std_fraction = young_fraction;
   auto ekf = std::make_unique<cs::Ekf>(calibration, config);
 
   cs::Vector6d q_sigma;
@@ -166,11 +173,12 @@ struct NeesSummary {
   long fused = 0;
 };
 
-NeesSummary monte_carlo(bool known_depth) {
+NeesSummary monte_carlo(bool known_depth, double young_fraction) {
   std::array<double, kSteps> mean{};
   NeesSummary out;
   for (int r = 0; r < kRuns; ++r) {
-    const RunResult res = run_once(1000U + static_cast<std::uint32_t>(r), known_depth);
+    const RunResult res =
+        run_once(1000U + static_cast<std::uint32_t>(r), known_depth, young_fraction);
     for (int k = 0; k < kSteps; ++k) {
       mean[static_cast<std::size_t>(k)] += res.nees[static_cast<std::size_t>(k)] / kRuns;
     }
@@ -185,19 +193,29 @@ NeesSummary monte_carlo(bool known_depth) {
     out.overall += v / kSteps;
   }
   std::printf(
-      "%s: per-step band [%.2f, %.2f], steps inside %d/%d, average pose NEES %.3f, "
-      "observations fused %ld\n",
-      known_depth ? "known depth" : "undelayed init", lo, hi, out.inside, kSteps, out.overall,
-      out.fused);
+      "%s, consider below %.2f: per-step band [%.2f, %.2f], steps inside %d/%d, average pose "
+      "NEES %.3f, observations fused %ld\n",
+      known_depth ? "known depth" : "undelayed init", young_fraction, lo, hi, out.inside, kSteps,
+      out.overall, out.fused);
   return out;
 }
 
 }  // namespace
 
 TEST(EkfConsistency, PoseNeesInsideChiSquareBandWithLandmarkDepthsKnown) {
-  const NeesSummary s = monte_carlo(true);
+  const NeesSummary s = monte_carlo(true, 0.0);
   // The steps of one run are correlated, so the time average is held to the per-step band of
   // kRuns independent runs, chi2(6 kRuns) / kRuns, not to a band of kRuns * kSteps samples.
+  EXPECT_GT(s.fused, kRuns * kSteps * 5);
+  EXPECT_GE(s.inside, kSteps * 8 / 10);
+  EXPECT_GT(s.overall, chi2_quantile(6.0 * kRuns, -1.959964) / kRuns);
+  EXPECT_LT(s.overall, chi2_quantile(6.0 * kRuns, 1.959964) / kRuns);
+}
+
+TEST(EkfConsistency, PoseNeesOfUndelayedInitializationInsideBandWithConsiderUpdate) {
+  // Young landmarks (relative depth std. dev. above 5 %) update only themselves: the pose never
+  // sees the linearization error of their unknown depth.
+  const NeesSummary s = monte_carlo(false, 0.05);
   EXPECT_GT(s.fused, kRuns * kSteps * 5);
   EXPECT_GE(s.inside, kSteps * 8 / 10);
   EXPECT_GT(s.overall, chi2_quantile(6.0 * kRuns, -1.959964) / kRuns);
@@ -207,7 +225,7 @@ TEST(EkfConsistency, PoseNeesInsideChiSquareBandWithLandmarkDepthsKnown) {
 TEST(EkfConsistency, PoseNeesOfUndelayedInitializationIsKnownOverconfident) {
   // Not inside the band (see the top of this file): this guards the measured figure, so that a
   // change that makes it worse (or, welcome, better) is noticed.
-  const NeesSummary s = monte_carlo(false);
+  const NeesSummary s = monte_carlo(false, 0.0);
   EXPECT_GT(s.fused, kRuns * kSteps * 5);
   EXPECT_GT(s.overall, 6.0);
   EXPECT_LT(s.overall, 30.0);

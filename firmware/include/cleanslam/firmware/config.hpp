@@ -20,10 +20,23 @@ struct FilterSettings {
   int max_landmarks = 128;       // slots in use at most (<= hal::kMaxLandmarks)
   // Heading from the encoders alone while the gyro is silent: random walk per sqrt(metre).
   double encoder_yaw_noise_rad_per_sqrt_m = 0.03;
+  // Consider (Schmidt) update while a landmark's relative depth std. dev. exceeds the fraction.
+  bool consider_young_landmarks = true;
+  double young_depth_std_fraction = 0.3;
+  // Depth bounds of updates along the optical axis: in front of the camera, and within
+  // max_depth_m (the workspace's size, 0: no upper bound).
+  bool depth_bounds = true;
+  double max_depth_m = 0.0;
+  // Prediction noise of persistent odometry errors (slam_core::DeadReckoningConfig), 0: off.
+  double gyro_bias_correlation_time_s = 10.0;
+  double distance_scale_correlation_m = 0.0;
+  double gyro_scale_error = 0.005;
 };
 
 struct FrontendSettings {
   int min_inliers = 3;  // no visual update with fewer (Section 3.3)
+  // The same for frames with tracked features (ids known, no data association to confirm).
+  int features_min_inliers = 1;
   // Standing still (no visual update, Section 2.4): no tick and |yaw rate - bias| below this
   // for standstill_window_s.
   double standstill_rate_rad_s = 0.02;

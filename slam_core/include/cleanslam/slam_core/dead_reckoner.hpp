@@ -42,6 +42,15 @@ struct DeadReckoningConfig {
   // take_increment() extrapolates the last wheel speed at most this far past the last encoder
   // sample (and no further back than this before it).
   double max_extrapolation_s = 0.2;
+  // Errors that persist across increments (the within-increment terms above treat them as
+  // independent per increment), inflated by their correlation time or length: the gyro bias
+  // (std. dev. gyro.bias_instability) adds bias_instability^2 * T * dt to the heading variance,
+  // the distance scale (std. dev. wheels.distance_noise) adds distance_noise^2 * L * |d| along
+  // the track; 0 disables either.
+  double gyro_bias_correlation_time_s = 0.0;
+  double distance_scale_correlation_m = 0.0;
+  // Relative gyro scale error, one value within an increment (like the distance scale).
+  double gyro_scale_error = 0.0;
 };
 
 // u = (dx_c, dpsi_c) of a body increment (dx, dy, dz, droll, dpitch, dyaw), expressed in the
@@ -101,6 +110,7 @@ class DeadReckoner {
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
     Eigen::Vector3d d_scale = Eigen::Vector3d::Zero();  // d(x, y, yaw) / d(distance scale error)
     Eigen::Vector3d d_bias = Eigen::Vector3d::Zero();   // d(x, y, yaw) / d(gyro bias)
+    Eigen::Vector3d d_gyro_scale = Eigen::Vector3d::Zero();  // d(x, y, yaw) / d(gyro scale)
     double distance = 0.0;
     double wheel_travel = 0.0;
     bool gyro_used = true;

@@ -42,6 +42,7 @@ struct EkfCounters {
   std::uint64_t landmarks_initialized = 0;
   std::uint64_t landmarks_replaced = 0;
   std::uint64_t landmarks_deleted = 0;
+  std::uint64_t consider_observations = 0;  // fused with the consider (Schmidt) gain
 };
 
 class Ekf {
@@ -86,6 +87,11 @@ class Ekf {
   [[nodiscard]] Vector6d camera_pose() const { return x_.head<6>(); }
   [[nodiscard]] Matrix6d pose_covariance() const { return P_.topLeftCorner<6, 6>(); }
   [[nodiscard]] bool slot_used(int slot) const;
+  // Std. dev. of the landmark's depth relative to the camera, along the camera-landmark line,
+  // divided by that depth; -1 for an unused slot.
+  [[nodiscard]] double relative_depth_std(int slot) const;
+  // The consider update applies to it (EkfConfig::consider_young_landmarks).
+  [[nodiscard]] bool young(int slot) const;
   [[nodiscard]] Eigen::Vector3d landmark(int slot) const;
   [[nodiscard]] Eigen::Matrix3d landmark_covariance(int slot) const;
   [[nodiscard]] const std::array<bool, hal::kMaxLandmarks>& used_mask() const { return used_; }
@@ -117,6 +123,8 @@ class Ekf {
                       Eigen::Matrix<double, 2, 3>& Jl, double& depth) const;
   ObservationResult pixel_gate(const Observation& o, ObservationStatus& st) const;
   ObservationResult fuse(int m);
+  bool depth_bounds_violated(int m);
+  int drop_out_of_bounds(int m);
   void symmetrize_active();
 
   EkfConfig config_;
@@ -137,6 +145,8 @@ class Ekf {
   std::array<Eigen::Matrix<double, 3, 6>, hal::kMaxObservationsPerFrame> Hp_{};
   std::array<Eigen::Matrix3d, hal::kMaxObservationsPerFrame> Hl_{};
   std::array<Eigen::Matrix3d, hal::kMaxObservationsPerFrame> R_{};
+  std::array<bool, hal::kMaxObservationsPerFrame> young_{};
+  std::array<bool, hal::kMaxObservationsPerFrame> out_of_bounds_{};
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxMeasDim, 1> nu_;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxMeasDim, kMaxMeasDim> S_;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxMeasDim, kMaxMeasDim> Sinv_;

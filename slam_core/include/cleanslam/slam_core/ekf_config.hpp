@@ -30,6 +30,17 @@ struct EkfConfig {
   double min_depth_m = 0.05;
   // Prediction is refused when |pitch| comes this close to +-pi/2 (eq. 4 is singular there).
   double max_abs_pitch_rad = 1.4;
+  // Consider (Schmidt) update of young landmarks: while a landmark's depth relative to the
+  // camera has a std. dev. above young_depth_std_fraction of that depth, its observations update
+  // only the landmark itself (the gain rows of the pose and of the other landmarks are zero), so
+  // the linearization error of its unknown depth (eq. 23's lever arm) cannot corrupt the pose.
+  bool consider_young_landmarks = true;
+  double young_depth_std_fraction = 0.3;
+  // Depth bounds: an update that would move an observed landmark closer than min_depth_m or
+  // farther than max_depth_m (0: no upper bound) along the optical axis drops that observation
+  // (kDepthBound) and the rest is fused again.
+  bool depth_bounds = true;
+  double max_depth_m = 0.0;
   // Smallest variance allowed on the diagonal of P after an update (the PSD guard).
   double min_variance = 1e-12;
 };

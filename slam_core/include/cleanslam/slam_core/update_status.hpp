@@ -20,6 +20,7 @@ enum class ObservationResult : std::uint8_t {
   kNotPositiveDefinite,  // innovation covariance or posterior not positive definite
   kInvalidSlot,          // slot out of range or not in use, or observed twice in one frame
   kOverCapacity,         // more observations than hal::kMaxObservationsPerFrame
+  kDepthBound,           // the update would move the landmark behind the camera or past max depth
   kCount
 };
 
