@@ -56,4 +56,3 @@ PY
 
 step "plots -> $out/"
 /usr/bin/python3 tools/plot/plot_run.py "$out/run" --gt "$out/dataset/groundtruth.csv" --out "$out"
-ls "$out"/*.png

@@ -11,7 +11,7 @@ if [[ "${1:-}" == "--no-callgrind" ]]; then
 fi
 cmake --preset host-release >/dev/null
 cmake --build --preset host-release --target bench_estimator -- -j2 >/dev/null
-bench="$root/build/host-release/tests/bench/bench_estimator"
+bench="$root/build/host-release/bin/bench_estimator"
 "$bench" "$@"
 
 if [[ $callgrind -eq 0 ]]; then

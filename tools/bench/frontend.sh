@@ -5,7 +5,7 @@
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${here}/build/host-release"
-bench="${build}/tests/bench/bench_frontend"
+bench="${build}/bin/bench_frontend"
 reps=7
 min_time=0.5
 for arg in "$@"; do
