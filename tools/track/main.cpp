@@ -15,8 +15,9 @@
 #include <cstring>
 #include <string>
 
+#include "cleanslam/sim_hal/dataset.hpp"
+#include "cleanslam/sim_hal/gray_image.hpp"
 #include "cleanslam/slam_core/frontend/frame_pipeline.hpp"
-#include "dataset_images.hpp"
 #include "image_only_estimator.hpp"
 #include "overlay.hpp"
 
@@ -102,17 +103,24 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  tr::DatasetImages images;
-  std::string error;
-  if (!tr::load_dataset_images(dataset, images, error)) {
-    std::fprintf(stderr, "cleanslam-track: %s\n", error.c_str());
+  auto loaded = cleanslam::sim_hal::load_dataset(dataset);
+  if (!loaded) {
+    std::fprintf(stderr, "cleanslam-track: %s\n", loaded.error().c_str());
     return 1;
   }
-  if (images.width > cleanslam::hal::kImageWidth || images.height > cleanslam::hal::kImageHeight) {
+  const cleanslam::sim_hal::Dataset& ds = loaded.value();
+  if (!ds.has_camera) {
+    std::fprintf(stderr, "cleanslam-track: %s has no cam0/data.csv: nothing to track\n",
+                 dataset.c_str());
+    return 1;
+  }
+  const int width = ds.calibration.camera.width;
+  const int height = ds.calibration.camera.height;
+  if (width > cleanslam::hal::kImageWidth || height > cleanslam::hal::kImageHeight) {
     std::fprintf(stderr,
                  "cleanslam-track: %s/sensors.yaml: camera %dx%d exceeds the front end's capacity "
                  "%dx%d\n",
-                 dataset.c_str(), images.width, images.height, cleanslam::hal::kImageWidth,
+                 dataset.c_str(), width, height, cleanslam::hal::kImageWidth,
                  cleanslam::hal::kImageHeight);
     return 1;
   }
@@ -130,14 +138,14 @@ int main(int argc, char** argv) {
   std::fprintf(out, "#t_ns,track_id,u_px,v_px\n");
 
   fe::FramePipelineConfig cfg;
-  cfg.width = images.width;
-  cfg.height = images.height;
+  cfg.width = width;
+  cfg.height = height;
   cfg.tracker.min_ncc = static_cast<float>(min_ncc);
   fe::FramePipeline pipeline(cfg);
   tr::ImageOnlyEstimator::Config ecfg;
   ecfg.sigma_common_px = sigma_motion;
   tr::ImageOnlyEstimator estimator(ecfg);
-  tr::OwnedImage image;
+  cleanslam::sim_hal::GrayImage image;
   long frames = 0;
   long tracked = 0;
   long inliers = 0;
@@ -146,18 +154,19 @@ int main(int argc, char** argv) {
   long deleted = 0;
   long initialized = 0;
   long rows = 0;
-  for (const tr::FrameEntry& f : images.frames) {
+  for (const cleanslam::sim_hal::CameraIndexRow& row : ds.camera) {
+    const std::string path = ds.image_path(row);
     if (max_frames >= 0.0 && static_cast<double>(frames) >= max_frames) {
       break;
     }
-    if (!tr::load_gray_image(f.path, image, error)) {
-      std::fprintf(stderr, "cleanslam-track: %s\n", error.c_str());
+    if (const auto read = cleanslam::sim_hal::read_gray_image(path, image); !read.ok()) {
+      std::fprintf(stderr, "cleanslam-track: %s\n", read.error().c_str());
       std::fclose(out);
       return 1;
     }
     if (pipeline.begin_frame(image.view()) != fe::ImageCheck::kOk) {
       char msg[200];
-      std::fprintf(stderr, "cleanslam-track: %s: %s (sensors.yaml)\n", f.path.c_str(),
+      std::fprintf(stderr, "cleanslam-track: %s: %s (sensors.yaml)\n", path.c_str(),
                    pipeline.describe(msg, sizeof(msg)));
       std::fclose(out);
       return 1;
@@ -174,7 +183,7 @@ int main(int argc, char** argv) {
       for (int i = 0; i < pipeline.track_count(); ++i) {
         const fe::TrackRecord& t = pipeline.tracks()[i];
         if (t.result.found && t.inlier) {
-          std::fprintf(out, "%lld,%lld,%.3f,%.3f\n", static_cast<long long>(f.t_ns),
+          std::fprintf(out, "%lld,%lld,%.3f,%.3f\n", static_cast<long long>(row.t_ns),
                        static_cast<long long>(estimator.track_id(t.slot)), t.result.u_px,
                        t.result.v_px);
           ++rows;
@@ -183,7 +192,7 @@ int main(int argc, char** argv) {
     }
     for (int i = 0; i < pipeline.new_landmark_count(); ++i) {
       const fe::PixelObservation& o = pipeline.new_landmark(i);
-      std::fprintf(out, "%lld,%lld,%.3f,%.3f\n", static_cast<long long>(f.t_ns),
+      std::fprintf(out, "%lld,%lld,%.3f,%.3f\n", static_cast<long long>(row.t_ns),
                    static_cast<long long>(estimator.track_id(o.slot)), o.u_px, o.v_px);
       ++rows;
     }
@@ -192,6 +201,7 @@ int main(int argc, char** argv) {
       overlay.draw(pipeline);
       char name[32];
       std::snprintf(name, sizeof(name), "/%06ld.png", frames - 1);
+      std::string error;
       if (!overlay.write_png(overlay_dir + name, error)) {
         std::fprintf(stderr, "cleanslam-track: %s\n", error.c_str());
         std::fclose(out);
