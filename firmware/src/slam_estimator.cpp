@@ -77,11 +77,7 @@ void SlamEstimator::reset(hal::TimeNs /*t_ns*/) {
       slam_core::camera_pose_from_body_pose(slam_core::Vector6d::Zero(), ekf_.camera());
   ekf_.reset(cam, slam_core::Matrix6d::Identity() * 1e-10);
   slot_owner_.fill(-1);
-  if (image_frames_ > 0) {
-    // Set down after a lift: the front end forgets its patches with the map (allocates once
-    // more; the pipeline has no reset of its own).
-    pipeline_ = std::make_unique<slam_core::frontend::FramePipeline>(pipeline_config(config_));
-  }
+  pipeline_->forget_map();
   predicted_to_ns_ = -1;
   frame_done_ = true;
   record_count_ = 0;

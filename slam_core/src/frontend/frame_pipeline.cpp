@@ -23,6 +23,21 @@ FramePipeline::FramePipeline(const FramePipelineConfig& config)
   config_.initializations_per_step = std::max(1, config_.initializations_per_step);
 }
 
+void FramePipeline::forget_map() {
+  for (int slot = 0; slot < hal::kMaxLandmarks; ++slot) {
+    book_.remove(slot);
+    patches_.clear(slot);
+  }
+  stage_ = FrameStage::kIdle;
+  report_ = FrameReport{};
+  track_count_ = 0;
+  occupied_count_ = 0;
+  obs_count_ = 0;
+  new_corner_count_ = 0;
+  new_count_ = 0;
+  cursor_ = 0;
+}
+
 ImageCheck FramePipeline::begin_frame(const hal::GrayImageView& image, bool allow_update) {
   report_ = FrameReport{};
   image_ = image;

@@ -120,6 +120,8 @@ TEST(FrontendAllocation, FramePipelineAllocatesNothing) {
   const GrayImage wrong(100, 100, 0);
   int tracked = 0;
   int updates = 0;
+  int active_before = 0;
+  int forgotten_active = -1;
   std::size_t allocations = 0;
   {
     Eigen::internal::set_is_malloc_allowed(false);
@@ -138,6 +140,10 @@ TEST(FrontendAllocation, FramePipelineAllocatesNothing) {
     pipe.finish(est);
     pipe.begin_frame(wrong.view());
     pipe.finish(est);
+    // A new map after a lift: the front end forgets its landmarks without allocating.
+    active_before = pipe.book().active_count();
+    pipe.forget_map();
+    forgotten_active = pipe.book().active_count();
     updates = est.updates;
     allocations = scope.count();
     Eigen::internal::set_is_malloc_allowed(true);
@@ -146,4 +152,6 @@ TEST(FrontendAllocation, FramePipelineAllocatesNothing) {
   EXPECT_GE(tracked, 25);
   EXPECT_GE(updates, 3);
   EXPECT_GT(est.deletions, 0);
+  EXPECT_GT(active_before, 0);
+  EXPECT_EQ(forgotten_active, 0);
 }

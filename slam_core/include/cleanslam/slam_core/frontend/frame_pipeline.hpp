@@ -88,6 +88,10 @@ class FramePipeline {
  public:
   explicit FramePipeline(const FramePipelineConfig& config = {});
 
+  // Forgets every landmark and patch and abandons the frame in progress, as when the estimator
+  // starts a new map (the robot set down after a lift). Allocates nothing.
+  void forget_map();
+
   // Starts a frame. A wrong image is rejected (the report says why; describe() words it) and the
   // frame is done at once. allow_update false (robot standing still, Section 2.4) tracks and
   // manages the map but does not update the estimator.
