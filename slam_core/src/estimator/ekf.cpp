@@ -76,6 +76,8 @@ void Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
   update_counter_ = 0;
   last_motion_w_.setZero();
   status_ = UpdateStatus{};
+  phase_ = UpdatePhase::kNone;
+  m_ = 0;
 }
 
 bool Ekf::slot_used(int slot) const {
@@ -135,6 +137,7 @@ void Ekf::recompute_active_dim() {
 }
 
 PredictStatus Ekf::predict(const OdometryIncrement& u) {
+  finish_update();
   PredictStatus status;
   ++counters_.predictions;
   const Matrix6d Q = 0.5 * (u.Q + u.Q.transpose());
@@ -202,6 +205,7 @@ int Ekf::initialize_landmark(double u_px, double v_px) {
 }
 
 int Ekf::initialize_landmark(double u_px, double v_px, double depth_m, double eps_ct_m) {
+  finish_update();
   auto reject = [this](ObservationResult r) {
     counters_.rejections.add(r);
     return -1;
@@ -264,6 +268,7 @@ int Ekf::initialize_landmark(double u_px, double v_px, double depth_m, double ep
 }
 
 void Ekf::delete_landmark(int slot) {
+  finish_update();
   if (!slot_used(slot)) {
     return;
   }
@@ -313,6 +318,7 @@ ObservationResult Ekf::measure(const Observation& o, Eigen::Vector3d& z, Eigen::
 }
 
 const UpdateStatus& Ekf::update(const Observation* obs, int count) {
+  finish_update();
   status_ = UpdateStatus{};
   status_.received = count;
   ++update_counter_;
@@ -378,35 +384,43 @@ const UpdateStatus& Ekf::update(const Observation* obs, int count) {
     nu_.segment<3>(3 * m) = st.innovation;
     ++m;
   }
-  ObservationResult r = m > 0 ? fuse(m) : ObservationResult::kFused;
-  while (m > 0 && r == ObservationResult::kDepthBound) {
-    m = drop_out_of_bounds(m);
-    r = m > 0 ? fuse(m) : ObservationResult::kFused;
+  m_ = m;
+  if (m == 0) {
+    return status_;
   }
-  if (m > 0) {
-    for (int j = 0; j < m; ++j) {
-      ObservationStatus& st =
-          status_.observations[static_cast<std::size_t>(fuse_obs_[static_cast<std::size_t>(j)])];
-      st.result = r;
-      if (r == ObservationResult::kFused) {
-        SlotInfo& info = info_[static_cast<std::size_t>(st.slot)];
-        if (young_[static_cast<std::size_t>(j)]) {
-          ++counters_.consider_observations;
-        }
-        info.last_fused = update_counter_;
-        ++info.fused;
-        ++status_.fused;
-      } else {
-        counters_.rejections.add(r);
-        ++status_.rejected;
-      }
-    }
-    status_.applied = r == ObservationResult::kFused;
-    if (status_.applied) {
-      ++counters_.updates_applied;
-    }
-  }
+  phase_ = UpdatePhase::kGain;
+  run_update(step_budget_);
   return status_;
+}
+
+void Ekf::finalize_update(ObservationResult r) {
+  phase_ = UpdatePhase::kNone;
+  dx_.resize(kMaxStateDim);
+  const int m = m_;
+  if (m == 0) {
+    return;
+  }
+  for (int j = 0; j < m; ++j) {
+    ObservationStatus& st =
+        status_.observations[static_cast<std::size_t>(fuse_obs_[static_cast<std::size_t>(j)])];
+    st.result = r;
+    if (r == ObservationResult::kFused) {
+      SlotInfo& info = info_[static_cast<std::size_t>(st.slot)];
+      if (young_[static_cast<std::size_t>(j)]) {
+        ++counters_.consider_observations;
+      }
+      info.last_fused = update_counter_;
+      ++info.fused;
+      ++status_.fused;
+    } else {
+      counters_.rejections.add(r);
+      ++status_.rejected;
+    }
+  }
+  status_.applied = r == ObservationResult::kFused;
+  if (status_.applied) {
+    ++counters_.updates_applied;
+  }
 }
 
 ObservationResult Ekf::pixel_gate(const Observation& o, ObservationStatus& st) const {
@@ -427,14 +441,113 @@ ObservationResult Ekf::pixel_gate(const Observation& o, ObservationStatus& st) c
   return st.pixel_test_ratio <= 1.0 ? ObservationResult::kFused : ObservationResult::kGate;
 }
 
-ObservationResult Ekf::fuse(int m) {
+void Ekf::set_update_step(std::int64_t multiply_adds) {
+  step_budget_ = std::max<std::int64_t>(0, multiply_adds);
+}
+
+bool Ekf::continue_update() {
+  if (phase_ != UpdatePhase::kNone) {
+    run_update(step_budget_);
+  }
+  return phase_ == UpdatePhase::kNone;
+}
+
+void Ekf::finish_update() {
+  if (phase_ != UpdatePhase::kNone) {
+    run_update(0);
+  }
+}
+
+// The batch update as resumable work (eq. 25-27): the gain's set-up, its rows a few at a time,
+// the state correction, then the covariance correction a few columns at a time. Each piece costs
+// about the multiply-adds counted here; a step does pieces until the budget is spent (at least
+// one). The pieces are the same whatever the budget, so the result does not depend on it.
+void Ekf::run_update(std::int64_t budget) {
+  constexpr int kRowsPerPiece = 4;  // a multiple of every SIMD width: the same rounding as one piece
+  const auto over = [budget](std::int64_t spent) { return budget > 0 && spent >= budget; };
+  std::int64_t spent = 0;
+  while (phase_ != UpdatePhase::kNone && !over(spent)) {
+    const std::int64_t n = n_;
+    const std::int64_t k = 3 * m_;
+    switch (phase_) {
+      case UpdatePhase::kGain:
+        begin_gain();
+        spent += 27 * active_dim_ * m_ + 3 * k * k * k;
+        break;
+      case UpdatePhase::kGainRows: {
+        int row = cursor_;
+        int end = n_;
+        if (budget > 0) {
+          const std::int64_t per_row = 2 * k * k + 4 * k;
+          const std::int64_t rows = std::max<std::int64_t>(1, (budget - spent) / per_row);
+          end = static_cast<int>(std::min<std::int64_t>(
+              n, row + (rows + kRowsPerPiece - 1) / kRowsPerPiece * kRowsPerPiece));
+        }
+        spent += (end - row) * (2 * k * k + 4 * k);
+        if (!gain_rows(row, end)) {
+          finalize_update(ObservationResult::kNotPositiveDefinite);
+          break;
+        }
+        cursor_ = row;
+        if (cursor_ < n_) {
+          break;
+        }
+        const ObservationResult r = gain_complete();
+        spent += n * k;
+        if (r == ObservationResult::kDepthBound) {
+          m_ = drop_out_of_bounds(m_);
+          dx_.resize(kMaxStateDim);
+          if (m_ > 0) {
+            phase_ = UpdatePhase::kGain;
+          } else {
+            finalize_update(ObservationResult::kFused);
+          }
+        } else if (r != ObservationResult::kFused) {
+          finalize_update(r);
+        } else {
+          // The state correction, with the pose's covariance columns in the same step: pose()
+          // and pose_covariance() are the posterior's from here on.
+          x_.head(n_) += dx_;
+          x_(3) = wrap_angle(x_(3));
+          x_(5) = wrap_angle(x_(5));
+          covariance_columns(0, kPose);
+          spent += kPose * (n + 1) * k;
+          cursor_ = kPose;
+          phase_ = UpdatePhase::kCovariance;
+        }
+        break;
+      }
+      case UpdatePhase::kCovariance: {
+        int j = cursor_;
+        std::int64_t cost = 0;
+        do {
+          cost += (n - j) * (2 * k + 1);
+          ++j;
+        } while (j < n_ && !over(spent + cost));
+        covariance_columns(cursor_, j);
+        spent += cost;
+        cursor_ = j;
+        if (cursor_ >= n_) {
+          finalize_update(ObservationResult::kFused);
+        }
+        break;
+      }
+      case UpdatePhase::kNone:
+        break;
+    }
+  }
+}
+
+void Ekf::begin_gain() {
+  const int m = m_;
   const int n = active_dim_;
   const int k = 3 * m;
-  int lms[hal::kMaxObservationsPerFrame];
+  n_ = n;
+  cursor_ = 0;
   for (int j = 0; j < m; ++j) {
     const auto& st =
         status_.observations[static_cast<std::size_t>(fuse_obs_[static_cast<std::size_t>(j)])];
-    lms[j] = row_of(st.slot);
+    lms_[static_cast<std::size_t>(j)] = row_of(st.slot);
   }
   // PHt = P H^T, H sparse: pose columns and one landmark's three columns per observation.
   auto PHt = PHt_.topLeftCorner(n, k);
@@ -442,14 +555,14 @@ ObservationResult Ekf::fuse(int m) {
     const auto js = static_cast<std::size_t>(j);
     PHt.middleCols<3>(3 * j).noalias() = P_.block(0, 0, n, 6).lazyProduct(Hp_[js].transpose());
     PHt.middleCols<3>(3 * j).noalias() +=
-        P_.block(0, lms[j], n, 3).lazyProduct(Hl_[js].transpose());
+        P_.block(0, lms_[js], n, 3).lazyProduct(Hl_[js].transpose());
   }
   S_.resize(k, k);
   for (int i = 0; i < m; ++i) {
     const auto is = static_cast<std::size_t>(i);
     for (int j = 0; j < m; ++j) {
       S_.block<3, 3>(3 * i, 3 * j) =
-          Hp_[is] * PHt.block<6, 3>(0, 3 * j) + Hl_[is] * PHt.block<3, 3>(lms[i], 3 * j);
+          Hp_[is] * PHt.block<6, 3>(0, 3 * j) + Hl_[is] * PHt.block<3, 3>(lms_[is], 3 * j);
     }
     S_.block<3, 3>(3 * i, 3 * i) += R_[is];
   }
@@ -462,53 +575,76 @@ ObservationResult Ekf::fuse(int m) {
   }
   llt_.compute(S_);
   if (llt_.info() != Eigen::Success) {
-    return ObservationResult::kNotPositiveDefinite;
+    finalize_update(ObservationResult::kNotPositiveDefinite);
+    return;
   }
   Sinv_.setIdentity(k, k);
   llt_.solveInPlace(Sinv_);
-  // W = [K | A^T] with K = PHt S^-1 (eq. 27) and A^T = PHt - K S / 2.
-  auto W = W_.topLeftCorner(n, 2 * k);
-  auto V = V_.topLeftCorner(2 * k, n);
+  phase_ = UpdatePhase::kGainRows;
+}
+
+// Rows [row, end) of W = [K | A^T] with K = PHt S^-1 (eq. 27) and A^T = PHt - K S / 2, and the
+// matching columns of V = [A ; K^T]; false when a used row's posterior variance would not stay
+// positive (the PSD guard). row ends where the rows were done.
+bool Ekf::gain_rows(int& row, int end) {
+  const int k = 3 * m_;
+  const int r0 = row;
+  const int rc = end - r0;
+  auto PHt = PHt_.block(r0, 0, rc, k);
+  auto W = W_.block(r0, 0, rc, 2 * k);
   W.leftCols(k).noalias() = PHt.lazyProduct(Sinv_);
-  for (int j = 0; j < m; ++j) {  // consider update: only the young landmark's own rows
+  for (int j = 0; j < m_; ++j) {  // consider update: only the young landmark's own rows
     if (young_[static_cast<std::size_t>(j)]) {
-      W.block(0, 3 * j, lms[j], 3).setZero();
-      W.block(lms[j] + 3, 3 * j, n - lms[j] - 3, 3).setZero();
+      const int lm = lms_[static_cast<std::size_t>(j)];
+      const int below = std::clamp(lm, r0, end);
+      const int above = std::clamp(lm + 3, r0, end);
+      W_.block(r0, 3 * j, below - r0, 3).setZero();
+      W_.block(above, 3 * j, end - above, 3).setZero();
     }
   }
   W.rightCols(k) = PHt;
   W.rightCols(k).noalias() -= 0.5 * W.leftCols(k).lazyProduct(S_);
-  V.topRows(k) = W.rightCols(k).transpose();
-  V.bottomRows(k) = W.leftCols(k).transpose();
-  // PSD guard: the posterior diagonal of the used rows must stay positive.
-  for (int i = 0; i < n; ++i) {
+  V_.block(0, r0, k, rc) = W.rightCols(k).transpose();
+  V_.block(k, r0, k, rc) = W.leftCols(k).transpose();
+  for (int i = r0; i < end; ++i) {
+    row = i + 1;
     if (i >= kPose && !used_[static_cast<std::size_t>((i - kPose) / 3)]) {
       continue;
     }
-    const double d = P_(i, i) - W.row(i).dot(V.col(i));
+    const double d = P_(i, i) - W_.row(i).head(2 * k).dot(V_.col(i).head(2 * k));
     if (!(d > config_.min_variance) || !std::isfinite(d)) {
-      return ObservationResult::kNotPositiveDefinite;
+      return false;
     }
   }
+  return true;
+}
+
+ObservationResult Ekf::gain_complete() {
+  const int n = n_;
+  const int k = 3 * m_;
   dx_.resize(n);
-  dx_.noalias() = W.leftCols(k) * nu_.head(k);  // eq. 25
+  dx_.noalias() = W_.topLeftCorner(n, k) * nu_.head(k);  // eq. 25
   if (!dx_.allFinite()) {
     return ObservationResult::kNonFinite;
   }
-  if (config_.depth_bounds && depth_bounds_violated(m)) {
-    dx_.resize(kMaxStateDim);
+  if (config_.depth_bounds && depth_bounds_violated(m_)) {
     return ObservationResult::kDepthBound;
   }
-  // Joseph form (eq. 26 made symmetric): P - K A - A^T K^T, lower triangle, then mirrored.
-  for (int j = 0; j < n; ++j) {
-    P_.col(j).segment(j, n - j).noalias() -= W.bottomRows(n - j) * V.col(j);
-  }
-  symmetrize_active();
-  x_.head(n) += dx_;
-  x_(3) = wrap_angle(x_(3));
-  x_(5) = wrap_angle(x_(5));
-  dx_.resize(kMaxStateDim);
   return ObservationResult::kFused;
+}
+
+// Joseph form (eq. 26 made symmetric): P - K A - A^T K^T on the lower triangle of columns
+// [begin, end), each mirrored into its row at once (a column's later updates touch only rows
+// below it).
+void Ekf::covariance_columns(int begin, int end) {
+  const int n = n_;
+  const int k2 = 6 * m_;
+  const auto W = W_.topLeftCorner(n, k2);
+  const auto V = V_.topLeftCorner(k2, n);
+  for (int j = begin; j < end; ++j) {
+    P_.col(j).segment(j, n - j).noalias() -= W.bottomRows(n - j) * V.col(j);
+    P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
+  }
 }
 
 bool Ekf::depth_bounds_violated(int m) {
@@ -550,13 +686,6 @@ int Ekf::drop_out_of_bounds(int m) {
     ++q;
   }
   return q;
-}
-
-void Ekf::symmetrize_active() {
-  const int n = active_dim_;
-  for (int j = 0; j < n; ++j) {
-    P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
-  }
 }
 
 bool Ekf::pixel_jacobian(int slot, Eigen::Vector2d& uv, Eigen::Matrix<double, 2, 6>& Jp,

@@ -72,9 +72,26 @@ class Ekf {
   void delete_landmark(int slot);
 
   // Per-observation gates (3-D and pixel), then one batch Joseph-form update of the survivors (eq.
-  // 25-27).
+  // 25-27). With a step budget (set_update_step) the update may return still pending: the status
+  // is final once update_pending() is false.
   const UpdateStatus& update(const Observation* obs, int count);
   [[nodiscard]] const UpdateStatus& last_update() const { return status_; }
+
+  // Bounded work per call for the batch update: about this many multiply-adds per update() or
+  // continue_update() call (at least one unit of work: a gain row or a covariance column); 0, the
+  // default, runs every update to completion at once. The chunked result equals the one-shot one.
+  void set_update_step(std::int64_t multiply_adds);
+  [[nodiscard]] std::int64_t update_step() const { return step_budget_; }
+  // An update is under way: the gain rows, then the covariance columns, over several calls. Its
+  // state correction is applied as soon as the gain is complete; while pending, pose() and
+  // pose_covariance() are already the posterior's once the covariance columns have begun.
+  [[nodiscard]] bool update_pending() const { return phase_ != UpdatePhase::kNone; }
+  // One bounded step of a pending update; true when it is finished (last_update() final).
+  bool continue_update();
+  // The rest of a pending update at once. predict, update, initialize_landmark and delete_landmark
+  // call it first, so a caller that does not wait for the pending update still gets the one-shot
+  // result.
+  void finish_update();
 
   // Predicted distorted pixel of a landmark with its 2x2 covariance, for search regions.
   bool predict_pixel(int slot, PixelPrediction& out) const;
@@ -122,10 +139,16 @@ class Ekf {
   bool pixel_jacobian(int slot, Eigen::Vector2d& uv, Eigen::Matrix<double, 2, 6>& Jp,
                       Eigen::Matrix<double, 2, 3>& Jl, double& depth) const;
   ObservationResult pixel_gate(const Observation& o, ObservationStatus& st) const;
-  ObservationResult fuse(int m);
+  enum class UpdatePhase : std::uint8_t { kNone, kGain, kGainRows, kCovariance };
+  // One step of the pending update within the budget (all of it when the budget is 0).
+  void run_update(std::int64_t budget);
+  void begin_gain();
+  bool gain_rows(int& row, int end);
+  ObservationResult gain_complete();
+  void covariance_columns(int begin, int end);
+  void finalize_update(ObservationResult r);
   bool depth_bounds_violated(int m);
   int drop_out_of_bounds(int m);
-  void symmetrize_active();
 
   EkfConfig config_;
   CameraModel camera_;
@@ -159,6 +182,14 @@ class Ekf {
   Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxStateDim> cross_;
   Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxStateDim> new_rows_;
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxStateDim, 1> dx_;
+
+  // The pending update (the batch of fuse_obs_, m_ observations, state dimension n_).
+  std::int64_t step_budget_ = 0;
+  UpdatePhase phase_ = UpdatePhase::kNone;
+  int m_ = 0;
+  int n_ = 0;
+  int cursor_ = 0;
+  std::array<int, hal::kMaxObservationsPerFrame> lms_{};
 
   UpdateStatus status_;
   EkfCounters counters_;
