@@ -68,6 +68,8 @@ SlamEstimator::SlamEstimator(const FirmwareConfig& config)
       adapter_(ekf_),
       camera_offset_ns_(hal::from_seconds(config.calibration.camera.time_offset_s)) {
   slot_owner_.fill(-1);
+  ekf_.set_update_step(static_cast<std::int64_t>(config.loop.frame_work_budget) *
+                       kMultiplyAddsPerWorkUnit);
 }
 
 void SlamEstimator::reset(hal::TimeNs /*t_ns*/) {
@@ -80,6 +82,7 @@ void SlamEstimator::reset(hal::TimeNs /*t_ns*/) {
   pipeline_->forget_map();
   predicted_to_ns_ = -1;
   frame_done_ = true;
+  fusing_ = false;
   record_count_ = 0;
 }
 
@@ -92,13 +95,16 @@ void SlamEstimator::add_encoder(const hal::EncoderSample& s) {
 }
 
 void SlamEstimator::predict(hal::TimeNs t_ns, bool /*gyro_ok: the dead reckoner sees it too*/) {
-  if (t_ns > predicted_to_ns_) {
+  // Deferred while an update is pending: the dead reckoner keeps the increment until it is done.
+  if (t_ns > predicted_to_ns_ && !ekf_.update_pending()) {
     ekf_.predict(dr_.take_increment(t_ns));
     predicted_to_ns_ = t_ns;
   }
 }
 
 void SlamEstimator::begin_frame(const hal::CameraFrame& frame) {
+  ekf_.finish_update();  // only when the loop abandoned a frame mid-update (lifted)
+  fusing_ = false;
   frame_ = frame;
   frame_done_ = false;
   record_count_ = 0;
@@ -123,13 +129,30 @@ bool SlamEstimator::step_frame(int& budget) {
     frame_done_ = true;
     return true;
   }
-  // The features path is one step: association, JCBB and one batch update.
-  budget -= frame_.feature_count;
-  if (frame_.has_features()) {
+  // The features path: association, JCBB and the start of one batch update; the update's rest in
+  // bounded steps (one per loop iteration); then the records and the initializations.
+  if (!fusing_) {
+    budget -= frame_.feature_count;
+    if (!frame_.has_features()) {
+      frame_done_ = true;
+      return true;
+    }
     // Usually a no-op: the loop predicted up to the newest encoder sample, at or after the frame.
     predict(frame_.t_ns + camera_offset_ns_, true);
-    process_features();
+    if (!associate_features()) {
+      frame_done_ = true;
+      return true;
+    }
+    fusing_ = true;
+    if (ekf_.update_pending()) {
+      return false;
+    }
+  } else if (!ekf_.continue_update()) {
+    return false;
   }
+  fusing_ = false;
+  record_features_update();
+  initialize_features();
   frame_done_ = true;
   return true;
 }
@@ -157,13 +180,13 @@ void SlamEstimator::record(const hal::FeatureObservation& f, lf::UpdateStatus st
   r.v_px = f.v_px;
 }
 
-void SlamEstimator::process_features() {
+bool SlamEstimator::associate_features() {
   const int n = frame_.feature_count;
   if (dr_.standing_still()) {
     for (int i = 0; i < n; ++i) {
       record(frame_.features[i], lf::UpdateStatus::kSkipped, slot_of(frame_.features[i].track_id));
     }
-    return;
+    return false;
   }
   const double w = config_.calibration.camera.width;
   const double h = config_.calibration.camera.height;
@@ -189,59 +212,77 @@ void SlamEstimator::process_features() {
     obs_feature_[static_cast<std::size_t>(m)] = i;
     ++m;
   }
-
-  if (m > 0) {
-    const int k = ekf_.joint_pixel_innovation(obs_.data(), m, nu_.data(), S_.data());
-    const slam_core::frontend::JcbbResult jr =
-        k == m ? jcbb_.solve(nu_.data(), S_.data(), m, inlier_.data())
-               : slam_core::frontend::JcbbResult{};
-    int q = 0;
-    if (jr.update) {
-      for (int i = 0; i < m; ++i) {
-        if (inlier_[static_cast<std::size_t>(i)]) {
-          inlier_obs_[static_cast<std::size_t>(q)] = obs_[static_cast<std::size_t>(i)];
-          inlier_feature_[static_cast<std::size_t>(q)] = i;
-          ++q;
-        }
-      }
-    }
-    const slam_core::UpdateStatus* status = q > 0 ? &ekf_.update(inlier_obs_.data(), q) : nullptr;
-    int next_inlier = 0;
+  obs_count_ = m;
+  fresh_count_ = fresh;
+  innovation_count_ = -1;
+  jcbb_result_ = slam_core::frontend::JcbbResult{};
+  updated_ = false;
+  if (m == 0) {
+    return true;
+  }
+  innovation_count_ = ekf_.joint_pixel_innovation(obs_.data(), m, nu_.data(), S_.data());
+  if (innovation_count_ == m) {
+    jcbb_result_ = jcbb_.solve(nu_.data(), S_.data(), m, inlier_.data());
+  }
+  int q = 0;
+  if (jcbb_result_.update) {
     for (int i = 0; i < m; ++i) {
-      const auto ui = static_cast<std::size_t>(i);
-      const hal::FeatureObservation& f = frame_.features[obs_feature_[ui]];
-      lf::UpdateStatus st = lf::UpdateStatus::kSkipped;  // too few inliers
-      if (k != m) {
-        st = lf::UpdateStatus::kRejected;
-      } else if (jr.update && !inlier_[ui]) {
-        st = lf::UpdateStatus::kGated;  // JCBB
-      } else if (jr.update && status != nullptr) {
-        const auto& o = status->observations[static_cast<std::size_t>(next_inlier++)];
-        st = o.fused()                                         ? lf::UpdateStatus::kUpdated
-             : o.result == slam_core::ObservationResult::kGate ? lf::UpdateStatus::kGated
-                                                               : lf::UpdateStatus::kRejected;
-      }
-      record(f, st, obs_[ui].slot);
-      if (k == m) {
-        lf::UpdateRecord& r = records_[static_cast<std::size_t>(record_count_ - 1)];
-        const double nu_u = nu_[2 * ui];
-        const double nu_v = nu_[2 * ui + 1];
-        const auto ld = static_cast<std::size_t>(2 * m);
-        const double a = S_[2 * ui * ld + 2 * ui];
-        const double b = S_[(2 * ui + 1) * ld + 2 * ui];
-        const double d = S_[(2 * ui + 1) * ld + 2 * ui + 1];
-        const double det = a * d - b * b;
-        r.innovation_u = nu_u;
-        r.innovation_v = nu_v;
-        r.mahalanobis2 =
-            det > 0.0 ? (d * nu_u * nu_u - 2.0 * b * nu_u * nu_v + a * nu_v * nu_v) / det : 0.0;
+      if (inlier_[static_cast<std::size_t>(i)]) {
+        inlier_obs_[static_cast<std::size_t>(q)] = obs_[static_cast<std::size_t>(i)];
+        inlier_feature_[static_cast<std::size_t>(q)] = i;
+        ++q;
       }
     }
   }
+  if (q > 0) {
+    ekf_.update(inlier_obs_.data(), q);
+    updated_ = true;
+  }
+  return true;
+}
 
-  // Undelayed initialization of unseen ids, keeping at most kMaxObs landmarks in view.
-  int budget = kMaxObs - m;
-  for (int j = 0; j < fresh; ++j) {
+void SlamEstimator::record_features_update() {
+  const int m = obs_count_;
+  const int k = innovation_count_;
+  const bool jcbb_update = jcbb_result_.update;
+  const slam_core::UpdateStatus* status = updated_ ? &ekf_.last_update() : nullptr;
+  int next_inlier = 0;
+  for (int i = 0; i < m; ++i) {
+    const auto ui = static_cast<std::size_t>(i);
+    const hal::FeatureObservation& f = frame_.features[obs_feature_[ui]];
+    lf::UpdateStatus st = lf::UpdateStatus::kSkipped;  // too few inliers
+    if (k != m) {
+      st = lf::UpdateStatus::kRejected;
+    } else if (jcbb_update && !inlier_[ui]) {
+      st = lf::UpdateStatus::kGated;  // JCBB
+    } else if (jcbb_update && status != nullptr) {
+      const auto& o = status->observations[static_cast<std::size_t>(next_inlier++)];
+      st = o.fused()                                         ? lf::UpdateStatus::kUpdated
+           : o.result == slam_core::ObservationResult::kGate ? lf::UpdateStatus::kGated
+                                                             : lf::UpdateStatus::kRejected;
+    }
+    record(f, st, obs_[ui].slot);
+    if (k == m) {
+      lf::UpdateRecord& r = records_[static_cast<std::size_t>(record_count_ - 1)];
+      const double nu_u = nu_[2 * ui];
+      const double nu_v = nu_[2 * ui + 1];
+      const auto ld = static_cast<std::size_t>(2 * m);
+      const double a = S_[2 * ui * ld + 2 * ui];
+      const double b = S_[(2 * ui + 1) * ld + 2 * ui];
+      const double d = S_[(2 * ui + 1) * ld + 2 * ui + 1];
+      const double det = a * d - b * b;
+      r.innovation_u = nu_u;
+      r.innovation_v = nu_v;
+      r.mahalanobis2 =
+          det > 0.0 ? (d * nu_u * nu_u - 2.0 * b * nu_u * nu_v + a * nu_v * nu_v) / det : 0.0;
+    }
+  }
+}
+
+// Undelayed initialization of unseen ids, keeping at most kMaxObs landmarks in view.
+void SlamEstimator::initialize_features() {
+  int budget = kMaxObs - obs_count_;
+  for (int j = 0; j < fresh_count_; ++j) {
     const hal::FeatureObservation& f = frame_.features[new_feature_[static_cast<std::size_t>(j)]];
     if (budget <= 0) {
       record(f, lf::UpdateStatus::kSkipped, -1);

@@ -81,6 +81,9 @@ bool FramePipeline::step(LandmarkEstimator& estimator) {
     case FrameStage::kUpdate:
       do_update(estimator);
       break;
+    case FrameStage::kFuse:
+      do_fuse(estimator);
+      break;
     case FrameStage::kManage:
       do_manage(estimator);
       break;
@@ -239,6 +242,19 @@ void FramePipeline::do_update(LandmarkEstimator& est) {
   }
   report_.fused = est.update(obs_.data(), n);
   report_.updated = report_.fused > 0;
+  if (est.update_pending()) {
+    stage_ = FrameStage::kFuse;
+  }
+}
+
+void FramePipeline::do_fuse(LandmarkEstimator& est) {
+  int fused = 0;
+  if (!est.continue_update(fused)) {
+    return;
+  }
+  report_.fused = fused;
+  report_.updated = fused > 0;
+  stage_ = FrameStage::kManage;
 }
 
 void FramePipeline::do_manage(LandmarkEstimator& est) {

@@ -23,8 +23,13 @@ namespace cleanslam::firmware {
 // Image frames without features go through the front end's resumable FramePipeline (Harris,
 // search regions, LK tracking, JCBB, update, map management, initialization), one bounded step
 // per loop iteration; it tracks but does not update while standing still.
+// The EKF's batch update is bounded per loop iteration too (loop.frame_work_budget work units of
+// kMultiplyAddsPerWorkUnit each): it continues over the next iterations, prediction waits for it
+// (the dead reckoner keeps accumulating) and no other update or initialization starts meanwhile.
 class SlamEstimator final : public Estimator {
  public:
+  static constexpr std::int64_t kMultiplyAddsPerWorkUnit = 16384;
+
   explicit SlamEstimator(const FirmwareConfig& config);
 
   void reset(hal::TimeNs t_ns) override;
@@ -44,7 +49,11 @@ class SlamEstimator final : public Estimator {
   [[nodiscard]] const slam_core::frontend::FramePipeline& pipeline() const { return *pipeline_; }
 
  private:
-  void process_features();
+  // Features path: association, JCBB and the update's start; false when nothing is fused
+  // (standing still, everything recorded as skipped).
+  bool associate_features();
+  void record_features_update();
+  void initialize_features();
   void collect_image_records();
   int slot_of(std::int64_t track_id) const;
   void record(const hal::FeatureObservation& f, hal::log::UpdateStatus status, int slot);
@@ -64,6 +73,12 @@ class SlamEstimator final : public Estimator {
 
   hal::CameraFrame frame_;
   bool frame_done_ = true;
+  bool fusing_ = false;  // the features path's update is pending or just finished
+  int obs_count_ = 0;
+  int innovation_count_ = -1;
+  int fresh_count_ = 0;
+  bool updated_ = false;
+  slam_core::frontend::JcbbResult jcbb_result_;
   std::array<hal::log::UpdateRecord, hal::kMaxFeaturesPerFrame> records_{};
   int record_count_ = 0;
   std::uint64_t image_frames_ = 0;

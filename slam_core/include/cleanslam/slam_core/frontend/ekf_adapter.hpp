@@ -15,6 +15,7 @@ namespace cleanslam::slam_core::frontend {
 //   int initialize_landmark(double u_px, double v_px)
 //   void delete_landmark(int slot)
 //   const Status& update(const Observation*, int count)   (Status: int fused)
+//   bool update_pending() const; bool continue_update(); const Status& last_update() const
 // with Observation {int slot; double u_px; double v_px;}. For the project's EKF:
 //   EkfAdapter<Ekf, Observation, PixelPrediction>.
 template <class Estimator, class Observation, class Prediction>
@@ -53,6 +54,14 @@ class EkfAdapter final : public LandmarkEstimator {
       return 0;
     }
     return estimator_.update(buffer_.data(), count).fused;
+  }
+
+  [[nodiscard]] bool update_pending() const override { return estimator_.update_pending(); }
+
+  bool continue_update(int& fused) override {
+    const bool done = estimator_.continue_update();
+    fused = done ? estimator_.last_update().fused : 0;
+    return done;
   }
 
  private:

@@ -42,6 +42,7 @@ enum class FrameStage : std::uint8_t {
   kTrack,       // a few landmarks per step
   kAssociate,   // joint innovation and JCBB
   kUpdate,      // estimator update with the inliers
+  kFuse,        // the rest of that update, when the estimator bounds its work per call
   kManage,      // delete landmarks that keep failing
   kInitialize,  // new landmarks where none is in view, a few per step
   kDone,
@@ -123,6 +124,7 @@ class FramePipeline {
   void do_track();
   void do_associate(LandmarkEstimator& est);
   void do_update(LandmarkEstimator& est);
+  void do_fuse(LandmarkEstimator& est);
   void do_manage(LandmarkEstimator& est);
   void do_initialize(LandmarkEstimator& est);
 

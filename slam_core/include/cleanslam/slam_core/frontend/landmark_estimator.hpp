@@ -25,8 +25,16 @@ class LandmarkEstimator {
   // landmark) or -1.
   virtual int initialize_landmark(double u_px, double v_px) = 0;
   virtual void delete_landmark(int slot) = 0;
-  // Fuses the observations; returns how many were fused.
+  // Fuses the observations; returns how many were fused. An estimator that bounds its work per
+  // call may leave the update pending (update_pending()): continue_update() then does the rest,
+  // one bounded part per call, and nothing else may be asked of it until the update is complete.
   virtual int update(const PixelObservation* obs, int count) = 0;
+  [[nodiscard]] virtual bool update_pending() const { return false; }
+  // One bounded part of a pending update; true when it is complete, with the count fused.
+  virtual bool continue_update(int& fused) {
+    fused = 0;
+    return true;
+  }
 };
 
 }  // namespace cleanslam::slam_core::frontend
