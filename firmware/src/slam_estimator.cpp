@@ -69,7 +69,7 @@ SlamEstimator::SlamEstimator(const FirmwareConfig& config)
       camera_offset_ns_(hal::from_seconds(config.calibration.camera.time_offset_s)) {
   slot_owner_.fill(-1);
   ekf_.set_update_step(static_cast<std::int64_t>(config.loop.frame_work_budget) *
-                       kMultiplyAddsPerWorkUnit);
+                       kUpdateWorkPerUnit);
 }
 
 void SlamEstimator::reset(hal::TimeNs /*t_ns*/) {

@@ -441,8 +441,8 @@ ObservationResult Ekf::pixel_gate(const Observation& o, ObservationStatus& st) c
   return st.pixel_test_ratio <= 1.0 ? ObservationResult::kFused : ObservationResult::kGate;
 }
 
-void Ekf::set_update_step(std::int64_t multiply_adds) {
-  step_budget_ = std::max<std::int64_t>(0, multiply_adds);
+void Ekf::set_update_step(std::int64_t work) {
+  step_budget_ = std::max<std::int64_t>(0, work);
 }
 
 bool Ekf::continue_update() {
@@ -459,11 +459,15 @@ void Ekf::finish_update() {
 }
 
 // The batch update as resumable work (eq. 25-27): the gain's set-up, its rows a few at a time,
-// the state correction, then the covariance correction a few columns at a time. Each piece costs
-// about the multiply-adds counted here; a step does pieces until the budget is spent (at least
-// one). The pieces are the same whatever the budget, so the result does not depend on it.
+// the state correction, then the covariance correction a few columns at a time. Each piece's work
+// is estimated in units of about one instruction (host callgrind counts of the pieces: a gain row,
+// coefficient-wise products, costs about eight per multiply-add, a covariance column, a vectorized
+// matrix-vector product, about 1.5 plus its set-up); a step does pieces until the budget is spent (at least one).
+// The pieces are the same whatever the budget, so the result does not depend on it.
 void Ekf::run_update(std::int64_t budget) {
   constexpr int kRowsPerPiece = 4;  // a multiple of every SIMD width: the same rounding as one piece
+  constexpr std::int64_t kRowWork = 8;
+  constexpr std::int64_t kColumnWork = 400;  // a matrix-vector product's set-up
   const auto over = [budget](std::int64_t spent) { return budget > 0 && spent >= budget; };
   std::int64_t spent = 0;
   while (phase_ != UpdatePhase::kNone && !over(spent)) {
@@ -472,18 +476,18 @@ void Ekf::run_update(std::int64_t budget) {
     switch (phase_) {
       case UpdatePhase::kGain:
         begin_gain();
-        spent += 27 * active_dim_ * m_ + 3 * k * k * k;
+        spent += 2 * (27 * active_dim_ * m_ + 3 * k * k * k);
         break;
       case UpdatePhase::kGainRows: {
         int row = cursor_;
         int end = n_;
         if (budget > 0) {
-          const std::int64_t per_row = 2 * k * k + 4 * k;
+          const std::int64_t per_row = kRowWork * (2 * k * k + 4 * k);
           const std::int64_t rows = std::max<std::int64_t>(1, (budget - spent) / per_row);
           end = static_cast<int>(std::min<std::int64_t>(
               n, row + (rows + kRowsPerPiece - 1) / kRowsPerPiece * kRowsPerPiece));
         }
-        spent += (end - row) * (2 * k * k + 4 * k);
+        spent += (end - row) * kRowWork * (2 * k * k + 4 * k);
         if (!gain_rows(row, end)) {
           finalize_update(ObservationResult::kNotPositiveDefinite);
           break;
@@ -511,7 +515,7 @@ void Ekf::run_update(std::int64_t budget) {
           x_(3) = wrap_angle(x_(3));
           x_(5) = wrap_angle(x_(5));
           covariance_columns(0, kPose);
-          spent += kPose * (n + 1) * k;
+          spent += kPose * (n * (3 * k + 3) + kColumnWork);
           cursor_ = kPose;
           phase_ = UpdatePhase::kCovariance;
         }
@@ -521,7 +525,7 @@ void Ekf::run_update(std::int64_t budget) {
         int j = cursor_;
         std::int64_t cost = 0;
         do {
-          cost += (n - j) * (2 * k + 1);
+          cost += (n - j) * (3 * k + 3) + kColumnWork;
           ++j;
         } while (j < n_ && !over(spent + cost));
         covariance_columns(cursor_, j);

@@ -208,5 +208,91 @@ TEST(SlamLoop, DeterministicAcrossRuns) {
   EXPECT_TRUE(std::isfinite(last[0]) && std::isfinite(last[1]));
 }
 
+// The EKF update bounded per loop iteration (loop.frame_work_budget) gives the same estimate as
+// the update at once: on a virtual clock the loop does not advance time while a frame is pending,
+// so the frame poses are the same bit for bit; only the iterations differ.
+TEST(SlamLoop, BoundedUpdatesGiveTheOneShotEstimate) {
+  SimulatedRun run(30.0);
+  ASSERT_TRUE(run.ok);
+  struct Result {
+    std::vector<hal::PoseEstimate> frames;
+    std::uint64_t iterations = 0;
+    std::uint64_t updates = 0;
+  };
+  const auto once = [&](int budget) {
+    FirmwareConfig config;
+    config.calibration = run.calibration;
+    config.loop.frame_work_budget = budget;
+    SlamEstimator estimator(config);
+    Loop loop(config.loop, estimator);
+    test::CollectingSink frames;
+    test::ScriptedSource src = run.source;
+    src.next = 0;
+    loop.add_source(&src);
+    loop.add_frame_sinks(&frames, nullptr);
+    firmware::VirtualClock clock;
+    firmware::run_virtual(loop, clock, false, nullptr);
+    return Result{frames.poses, loop.stats().iterations,
+                  estimator.ekf().counters().updates_applied};
+  };
+  const Result chunked = once(1);
+  const Result whole = once(1 << 20);
+  ASSERT_GT(whole.frames.size(), 40U);
+  ASSERT_EQ(chunked.frames.size(), whole.frames.size());
+  EXPECT_GT(whole.updates, 20U);
+  EXPECT_EQ(chunked.updates, whole.updates);
+  EXPECT_GT(chunked.iterations, whole.iterations + 10 * whole.updates);  // many steps an update
+  for (std::size_t i = 0; i < whole.frames.size(); ++i) {
+    ASSERT_EQ(std::memcmp(chunked.frames[i].position_m.data(), whole.frames[i].position_m.data(),
+                          24),
+              0)
+        << i;
+    ASSERT_EQ(std::memcmp(chunked.frames[i].covariance.data(), whole.frames[i].covariance.data(),
+                          36 * 8),
+              0)
+        << i;
+  }
+}
+
+// On a clock that keeps running (5 ms ticks), samples arrive while an update is pending: the
+// prediction waits for it and then takes the whole increment at once, so there are fewer
+// predictions; the estimate stays close to the one-shot one.
+TEST(SlamLoop, PredictionWaitsForAPendingUpdate) {
+  SimulatedRun run(30.0);
+  ASSERT_TRUE(run.ok);
+  struct Result {
+    hal::PoseEstimate last;
+    std::uint64_t predictions = 0;
+    std::uint64_t updates = 0;
+  };
+  const auto once = [&](int budget) {
+    FirmwareConfig config;
+    config.calibration = run.calibration;
+    config.loop.frame_work_budget = budget;
+    SlamEstimator estimator(config);
+    Loop loop(config.loop, estimator);
+    test::ScriptedSource src = run.source;
+    src.next = 0;
+    loop.add_source(&src);
+    const hal::TimeNs t0 = src.items.front().due;
+    const hal::TimeNs t1 = src.items.back().due;
+    loop.start(t0);
+    for (hal::TimeNs t = t0; t <= t1 + hal::kNsPerSecond; t += 5 * hal::kNsPerMillisecond) {
+      loop.iterate(t);
+    }
+    loop.finish();
+    return Result{estimator.pose(t1), estimator.ekf().counters().predictions,
+                  estimator.ekf().counters().updates_applied};
+  };
+  const Result chunked = once(1);
+  const Result whole = once(1 << 20);
+  EXPECT_GT(whole.updates, 20U);
+  EXPECT_GT(chunked.updates, whole.updates / 2);
+  EXPECT_LT(chunked.predictions, whole.predictions);
+  const double dx = chunked.last.position_m[0] - whole.last.position_m[0];
+  const double dy = chunked.last.position_m[1] - whole.last.position_m[1];
+  EXPECT_LT(std::hypot(dx, dy), 0.05);
+}
+
 }  // namespace
 }  // namespace cleanslam

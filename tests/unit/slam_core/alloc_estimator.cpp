@@ -83,6 +83,7 @@ struct EkfRun {
   std::size_t allocations = 0;
   int updates_applied = 0;
   int initialized = 0;
+  int continued = 0;  // continue_update() calls of chunked updates
   bool finite = true;
 
   void operator()() {
@@ -113,7 +114,17 @@ struct EkfRun {
         }
       }
       ekf->joint_pixel_innovation(obs.data(), m, nu.data(), S.data());
-      if (ekf->update(obs.data(), m).applied) {
+      ekf->update(obs.data(), m);
+      // A chunked update runs to its end in steps, or (every 7th) is left pending for the next
+      // prediction to finish.
+      while (step % 7 != 3 && ekf->update_pending()) {
+        ekf->continue_update();
+        ++continued;
+      }
+      if (step % 7 == 3 && ekf->update_pending()) {
+        ekf->predict(u);
+      }
+      if (ekf->last_update().applied) {
         ++updates_applied;
       }
       if (step % 50 == 49) {
@@ -143,6 +154,26 @@ TEST(EstimatorAllocation, EkfLongRunAllocatesNothing) {
   EXPECT_GT(run.initialized, hal::kMaxLandmarks);  // the pool was full and recycled
   EXPECT_GT(ekf->counters().landmarks_replaced, 0U);
   EXPECT_GT(run.updates_applied, 50);
+  EXPECT_TRUE(run.finite);
+  EXPECT_TRUE(ekf->state().allFinite());
+  EXPECT_EQ(run.continued, 0);
+}
+
+TEST(EstimatorAllocation, EkfChunkedUpdatesAllocateNothing) {
+  hal::Calibration calibration;
+  calibration.camera.distortion = {-0.1, 0.02, 0.0005, -0.0003};
+  auto ekf = std::make_unique<cs::Ekf>(calibration, cs::EkfConfig{});
+  ekf->set_update_step(20000);
+  cs::Matrix6d P0 = cs::Matrix6d::Identity() * 1e-6;
+  ekf->reset(cs::Vector6d::Zero(), P0);
+  EkfRun run;
+  run.ekf = ekf.get();
+  const std::size_t stack = run_with_small_stack(run);
+  std::printf("chunked EKF run: stack high-water mark %zu bytes of 256 KiB\n", stack);
+  EXPECT_EQ(run.allocations, 0U);
+  EXPECT_GT(run.initialized, hal::kMaxLandmarks);
+  EXPECT_GT(run.updates_applied, 50);
+  EXPECT_GT(run.continued, 10 * run.updates_applied);  // many bounded steps per update
   EXPECT_TRUE(run.finite);
   EXPECT_TRUE(ekf->state().allFinite());
 }

@@ -23,12 +23,13 @@ namespace cleanslam::firmware {
 // Image frames without features go through the front end's resumable FramePipeline (Harris,
 // search regions, LK tracking, JCBB, update, map management, initialization), one bounded step
 // per loop iteration; it tracks but does not update while standing still.
-// The EKF's batch update is bounded per loop iteration too (loop.frame_work_budget work units of
-// kMultiplyAddsPerWorkUnit each): it continues over the next iterations, prediction waits for it
-// (the dead reckoner keeps accumulating) and no other update or initialization starts meanwhile.
+// The EKF's batch update is bounded per loop iteration too: loop.frame_work_budget units of
+// kUpdateWorkPerUnit (Ekf::set_update_step, about one host instruction each). It continues over
+// the next iterations; prediction waits for it (the dead reckoner keeps accumulating) and no
+// other update or initialization starts meanwhile.
 class SlamEstimator final : public Estimator {
  public:
-  static constexpr std::int64_t kMultiplyAddsPerWorkUnit = 16384;
+  static constexpr std::int64_t kUpdateWorkPerUnit = 32768;
 
   explicit SlamEstimator(const FirmwareConfig& config);
 

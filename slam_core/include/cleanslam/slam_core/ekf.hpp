@@ -77,10 +77,11 @@ class Ekf {
   const UpdateStatus& update(const Observation* obs, int count);
   [[nodiscard]] const UpdateStatus& last_update() const { return status_; }
 
-  // Bounded work per call for the batch update: about this many multiply-adds per update() or
-  // continue_update() call (at least one unit of work: a gain row or a covariance column); 0, the
-  // default, runs every update to completion at once. The chunked result equals the one-shot one.
-  void set_update_step(std::int64_t multiply_adds);
+  // Bounded work per call for the batch update: about this much work per update() or
+  // continue_update() call, in units of about one instruction (at least one piece: a few gain rows
+  // or a covariance column); 0, the default, runs every update to completion at once. The chunked
+  // result equals the one-shot one.
+  void set_update_step(std::int64_t work);
   [[nodiscard]] std::int64_t update_step() const { return step_budget_; }
   // An update is under way: the gain rows, then the covariance columns, over several calls. Its
   // state correction is applied as soon as the gain is complete; while pending, pose() and

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <concepts>
 #include <cstddef>
 
 #include "cleanslam/hal/capacities.hpp"
@@ -15,6 +16,8 @@ namespace cleanslam::slam_core::frontend {
 //   int initialize_landmark(double u_px, double v_px)
 //   void delete_landmark(int slot)
 //   const Status& update(const Observation*, int count)   (Status: int fused)
+// and, when the estimator bounds its work per update call (optional: without them every update
+// completes at once):
 //   bool update_pending() const; bool continue_update(); const Status& last_update() const
 // with Observation {int slot; double u_px; double v_px;}. For the project's EKF:
 //   EkfAdapter<Ekf, Observation, PixelPrediction>.
@@ -56,15 +59,32 @@ class EkfAdapter final : public LandmarkEstimator {
     return estimator_.update(buffer_.data(), count).fused;
   }
 
-  [[nodiscard]] bool update_pending() const override { return estimator_.update_pending(); }
+  [[nodiscard]] bool update_pending() const override {
+    if constexpr (kResumable) {
+      return estimator_.update_pending();
+    } else {
+      return false;
+    }
+  }
 
   bool continue_update(int& fused) override {
-    const bool done = estimator_.continue_update();
-    fused = done ? estimator_.last_update().fused : 0;
-    return done;
+    fused = 0;
+    if constexpr (kResumable) {
+      const bool done = estimator_.continue_update();
+      fused = done ? estimator_.last_update().fused : 0;
+      return done;
+    } else {
+      return true;
+    }
   }
 
  private:
+  static constexpr bool kResumable = requires(Estimator& e) {
+    { e.update_pending() } -> std::convertible_to<bool>;
+    { e.continue_update() } -> std::convertible_to<bool>;
+    e.last_update().fused;
+  };
+
   bool convert(const PixelObservation* obs, int count) {
     if (count < 0 || count > hal::kMaxObservationsPerFrame || (count > 0 && obs == nullptr)) {
       return false;
