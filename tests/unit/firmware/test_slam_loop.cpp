@@ -243,13 +243,12 @@ TEST(SlamLoop, BoundedUpdatesGiveTheOneShotEstimate) {
   EXPECT_EQ(chunked.updates, whole.updates);
   EXPECT_GT(chunked.iterations, whole.iterations + 10 * whole.updates);  // many steps an update
   for (std::size_t i = 0; i < whole.frames.size(); ++i) {
-    ASSERT_EQ(std::memcmp(chunked.frames[i].position_m.data(), whole.frames[i].position_m.data(),
-                          24),
-              0)
+    ASSERT_EQ(
+        std::memcmp(chunked.frames[i].position_m.data(), whole.frames[i].position_m.data(), 24), 0)
         << i;
-    ASSERT_EQ(std::memcmp(chunked.frames[i].covariance.data(), whole.frames[i].covariance.data(),
-                          36 * 8),
-              0)
+    ASSERT_EQ(
+        std::memcmp(chunked.frames[i].covariance.data(), whole.frames[i].covariance.data(), 36 * 8),
+        0)
         << i;
   }
 }

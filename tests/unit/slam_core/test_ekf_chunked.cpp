@@ -175,7 +175,7 @@ TEST_F(EkfChunkedTest, PoseIsPriorOrPosteriorWhilePending) {
     }
     chunked_->continue_update();
   }
-  EXPECT_GT(prior_steps, 0);     // the gain rows
+  EXPECT_GT(prior_steps, 0);      // the gain rows
   EXPECT_GT(posterior_steps, 0);  // the covariance columns
   EXPECT_LE(difference(), 1e-12);
 }

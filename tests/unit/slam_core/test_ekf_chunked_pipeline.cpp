@@ -79,8 +79,8 @@ TEST(FrontendPipelinePendingUpdate, FuseStageStepsUntilTheUpdateIsComplete) {
       ++fuse_steps;
       EXPECT_FALSE(pipe.report().updated);
     }
-    manage_after_fuse =
-        manage_after_fuse || (previous == fe::FrameStage::kFuse && before == fe::FrameStage::kManage);
+    manage_after_fuse = manage_after_fuse ||
+                        (previous == fe::FrameStage::kFuse && before == fe::FrameStage::kManage);
     previous = before;
     if (!pipe.step(est)) {
       break;

@@ -79,7 +79,7 @@ class EkfAdapter final : public LandmarkEstimator {
   }
 
  private:
-  static constexpr bool kResumable = requires(Estimator& e) {
+  static constexpr bool kResumable = requires(Estimator & e) {
     { e.update_pending() } -> std::convertible_to<bool>;
     { e.continue_update() } -> std::convertible_to<bool>;
     e.last_update().fused;
