@@ -463,10 +463,11 @@ void Ekf::finish_update() {
 // is estimated in units of about one instruction (host callgrind counts of the pieces: a gain row,
 // coefficient-wise products, costs about eight per multiply-add, a covariance column, a vectorized
 // matrix-vector product, about 1.5 plus its set-up); a step does pieces until the budget is spent
-// (at least one). The pieces are the same whatever the budget, so the result does not depend on it.
+// (at least one). Gain rows go in multiples of four (of every SIMD width: a row's rounding does not
+// depend on where a step starts), columns are independent: the result does not depend on the
+// budget.
 void Ekf::run_update(std::int64_t budget) {
-  constexpr int kRowsPerPiece =
-      4;  // a multiple of every SIMD width: the same rounding as one piece
+  constexpr int kRowsPerPiece = 4;
   constexpr std::int64_t kRowWork = 8;
   constexpr std::int64_t kColumnWork = 400;  // a matrix-vector product's set-up
   const auto over = [budget](std::int64_t spent) { return budget > 0 && spent >= budget; };
