@@ -9,11 +9,12 @@
 # usage: tools/budget/budget.sh CLEANSLAM DATASET [WORKDIR]
 #   CLEANSLAM  the cleanslam executable (a release build: cmake --preset host-release)
 #   DATASET    a dataset folder (e.g. cleanslam-sim default-room /tmp/ds --set duration_s=60)
-#   WORKDIR    where the callgrind dumps go (default: a temporary folder, removed)
+#   WORKDIR    where the callgrind dumps go (default: a temporary folder, removed); when given,
+#              the longest iteration's dump is named for callgrind_annotate (its parts' costs)
 # Budgets (issue 5): longest tick <= 5 M instructions, a whole frame <= 20 M.
 set -eu
 if [ $# -lt 2 ]; then
-  sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'
   exit 2
 fi
 CLEANSLAM=$1
@@ -51,9 +52,10 @@ valgrind --tool=callgrind --callgrind-out-file="$WORK/callgrind.out.%p" --collec
   exit 1
 }
 
-python3 - "$WORK" <<'PY'
+python3 - "$WORK" "$KEEP" <<'PY'
 import glob, os, re, sys
 work = sys.argv[1]
+keep = sys.argv[2] == "1"
 ticks = []        # instructions of each iteration
 frame_ticks = []  # of the iterations that ran a frame step
 frames = []       # a frame: consecutive iterations with frame steps (image frames take several)
@@ -63,6 +65,7 @@ for path in glob.glob(os.path.join(work, "callgrind.out.*")):
     if m:  # the final dump (program end, outside iterate) has no part number
         parts.append((int(m.group(1)), path))
 in_frame = False
+longest = (-1, "")
 for _, path in sorted(parts):
     total = None
     frame = False
@@ -85,6 +88,8 @@ for _, path in sorted(parts):
         continue
     total -= reader
     ticks.append(total)
+    if total > longest[0]:
+        longest = (total, path)
     if frame:
         frame_ticks.append(total)
         if in_frame:
@@ -102,6 +107,8 @@ print("instructions per iteration (M):")
 for name, p in (("min", 0), ("median", 50), ("p90", 90), ("p99", 99), ("p99.9", 99.9)):
     print(f"  {name:8s} {pct(ticks, p) / 1e6:10.3f}")
 print(f"  {'max':8s} {ticks[-1] / 1e6:10.3f}   budget 5 M: {'OK' if ticks[-1] <= 5e6 else 'OVER'}")
+if keep:
+    print(f"  longest: callgrind_annotate --inclusive=yes {longest[1]}")
 edges = [1e4, 3e4, 1e5, 3e5, 1e6, 3e6, 5e6, 1e7, 2e7, float('inf')]
 lo = 0
 print("histogram:")
