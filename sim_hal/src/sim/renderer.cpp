@@ -112,6 +112,13 @@ int Renderer::surface_at(const Pose3& world_camera, int x, int y) const {
   return cast(world_camera.position, world_camera.rotation * rays_[i]).surface;
 }
 
+Renderer::SurfacePoint Renderer::point_at(const Pose3& world_camera, double u, double v) const {
+  const Vec3 dir = world_camera.rotation * pixel_ray(camera_, u, v);
+  const Hit hit = cast(world_camera.position, dir);
+  if (hit.surface < 0) return {};
+  return {hit.surface, world_camera.position + hit.distance * dir, hit.distance};
+}
+
 Renderer::Hit Renderer::cast(Vec3 o, Vec3 d) const {
   Hit best{std::numeric_limits<double>::infinity(), -1, 0.0, 0.0, 1.0};
   auto consider = [&](double t, int surface, double a, double b, double cosi) {

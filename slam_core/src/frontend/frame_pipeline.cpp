@@ -113,6 +113,9 @@ void FramePipeline::do_detect() {
 }
 
 void FramePipeline::do_predict(LandmarkEstimator& est) {
+  if (cursor_ == 0) {
+    camera_known_ = est.camera_position(camera_);
+  }
   int done = 0;
   while (cursor_ < hal::kMaxLandmarks && done < config_.predictions_per_step) {
     const int slot = cursor_++;
@@ -140,6 +143,8 @@ void FramePipeline::do_predict(LandmarkEstimator& est) {
       t.region = region;
       t.predicted_depth_m = pred.depth_m;
       t.center_inside = inside;
+      t.has_distance = camera_known_ && est.landmark_position(slot, t.landmark);
+      t.distance_m = t.has_distance ? (t.landmark - camera_).norm() : 0.0;
     } else {
       at(occupied_u_, occupied_count_) = pred.uv.x();
       at(occupied_v_, occupied_count_) = pred.uv.y();
@@ -152,6 +157,14 @@ void FramePipeline::do_predict(LandmarkEstimator& est) {
   }
 }
 
+double FramePipeline::patch_scale(const LandmarkPatch& patch, const TrackRecord& t) const {
+  if (patch.has_anchor && t.has_distance) {
+    const Eigen::Vector3d anchor(patch.anchor[0], patch.anchor[1], patch.anchor[2]);
+    return predicted_patch_scale((t.landmark - anchor).norm(), t.distance_m);
+  }
+  return predicted_patch_scale(patch.first_depth_m, t.predicted_depth_m);
+}
+
 void FramePipeline::do_track() {
   const int end = std::min(track_count_, cursor_ + config_.tracks_per_step);
   for (; cursor_ < end; ++cursor_) {
@@ -159,8 +172,7 @@ void FramePipeline::do_track() {
     const LandmarkPatch* patch = patches_.get(t.slot);
     PatchTemplate tmpl;
     if (patch == nullptr ||
-        !make_template(*patch, predicted_patch_scale(patch->first_depth_m, t.predicted_depth_m),
-                       config_.tracker.min_template_std, tmpl)) {
+        !make_template(*patch, patch_scale(*patch, t), config_.tracker.min_template_std, tmpl)) {
       t.result.failure = TrackFailure::kNoTemplate;
       continue;
     }
@@ -265,13 +277,15 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
     }
   }
   new_corner_count_ = 0;
+  new_wanted_ = 0;
   const LandmarkBookConfig& bc = book_.config();
   if (matched < bc.min_in_view) {
-    const int want = std::min(bc.target_in_view - matched, hal::kMaxCorners);
-    new_corner_count_ =
-        select_new_corners(detector_.corners(), detector_.corner_count(), occupied_u_.data(),
-                           occupied_v_.data(), occupied_count_, bc.exclusion_px, config_.width,
-                           config_.height, kStoredPatchRadius + 2, want, new_corners_.data());
+    new_wanted_ = std::min(bc.target_in_view - matched, hal::kMaxCorners);
+    // Twice as many candidates: those whose patch is an edge are passed over.
+    new_corner_count_ = select_new_corners(
+        detector_.corners(), detector_.corner_count(), occupied_u_.data(), occupied_v_.data(),
+        occupied_count_, bc.exclusion_px, config_.width, config_.height, kStoredPatchRadius + 2,
+        std::min(2 * new_wanted_, hal::kMaxCorners), new_corners_.data());
   }
   cursor_ = 0;
   stage_ = new_corner_count_ > 0 ? FrameStage::kInitialize : FrameStage::kDone;
@@ -279,8 +293,15 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
 
 void FramePipeline::do_initialize(LandmarkEstimator& est) {
   const int end = std::min(new_corner_count_, cursor_ + config_.initializations_per_step);
-  for (; cursor_ < end; ++cursor_) {
+  for (; cursor_ < end && new_count_ < new_wanted_; ++cursor_) {
     const Corner& c = detector_.corners()[at(new_corners_, cursor_)];
+    if (!capture_patch(image_, c.x, c.y, 1.0, candidate_patch_) ||
+        !make_template(candidate_patch_, 1.0, config_.tracker.min_template_std,
+                       candidate_template_) ||
+        candidate_template_.isotropy < config_.tracker.min_template_isotropy) {
+      ++report_.edge_corners;
+      continue;
+    }
     const int slot = est.initialize_landmark(c.x, c.y);
     if (slot < 0 || slot >= hal::kMaxLandmarks) {
       continue;
@@ -294,12 +315,16 @@ void FramePipeline::do_initialize(LandmarkEstimator& est) {
       patches_.clear(slot);
       continue;
     }
+    Eigen::Vector3d camera;
+    if (est.camera_position(camera)) {
+      patches_.set_anchor(slot, camera);
+    }
     // A reused slot (the estimator replaced a landmark) starts afresh.
     book_.activate(slot);
     at(new_landmarks_, new_count_++) = {slot, c.x, c.y};
     ++report_.initialized;
   }
-  if (cursor_ >= new_corner_count_) {
+  if (cursor_ >= new_corner_count_ || new_count_ >= new_wanted_) {
     stage_ = FrameStage::kDone;
   }
 }

@@ -27,6 +27,16 @@ class Renderer {
   // The surface seen by pixel (x, y), or -1.
   [[nodiscard]] int surface_at(const Pose3& world_camera, int x, int y) const;
 
+  // What the ray through the sub-pixel position (u, v) (origin at the centre of the top-left
+  // pixel, as the calibration's cx, cy) hits: the world point and its surface (-1: nothing).
+  // Ground truth for the front end's diagnostics; not used while rendering.
+  struct SurfacePoint {
+    int surface = -1;
+    Vec3 point;
+    double distance = 0.0;
+  };
+  [[nodiscard]] SurfacePoint point_at(const Pose3& world_camera, double u, double v) const;
+
  private:
   struct Hit {
     double distance;

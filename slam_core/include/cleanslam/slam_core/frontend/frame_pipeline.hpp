@@ -52,6 +52,10 @@ struct TrackRecord {
   int slot = -1;
   SearchRegion region;
   double predicted_depth_m = 0.0;
+  // The landmark's position estimate and its distance from the camera (for the patch scale).
+  Eigen::Vector3d landmark = Eigen::Vector3d::Zero();
+  double distance_m = 0.0;
+  bool has_distance = false;
   TrackResult result;
   bool inlier = false;
   // The predicted pixel itself is inside the searchable image; a landmark predicted beyond the
@@ -76,6 +80,7 @@ struct FrameReport {
   int fused = 0;
   int deleted = 0;
   int initialized = 0;
+  int edge_corners = 0;  // corners not taken as landmarks: their patch is an edge
   int steps = 0;
   JcbbResult jcbb;
 };
@@ -121,6 +126,7 @@ class FramePipeline {
   void do_detect();
   void do_predict(LandmarkEstimator& est);
   void do_track();
+  [[nodiscard]] double patch_scale(const LandmarkPatch& patch, const TrackRecord& t) const;
   void do_associate(LandmarkEstimator& est);
   void do_update(LandmarkEstimator& est);
   void do_manage(LandmarkEstimator& est);
@@ -138,6 +144,8 @@ class FramePipeline {
   FrameStage stage_ = FrameStage::kIdle;
   FrameReport report_;
   int cursor_ = 0;
+  Eigen::Vector3d camera_ = Eigen::Vector3d::Zero();  // camera position estimate this frame
+  bool camera_known_ = false;
 
   static constexpr int kMaxTracks = hal::kMaxObservationsPerFrame;
   std::array<TrackRecord, kMaxTracks> tracks_{};
@@ -156,6 +164,10 @@ class FramePipeline {
 
   std::array<int, hal::kMaxCorners> new_corners_{};
   int new_corner_count_ = 0;
+  int new_wanted_ = 0;
+  // A candidate's patch and template, checked before it becomes a landmark.
+  LandmarkPatch candidate_patch_;
+  PatchTemplate candidate_template_;
   std::array<PixelObservation, hal::kMaxCorners> new_landmarks_{};
   int new_count_ = 0;
 };
