@@ -135,26 +135,69 @@ void FramePipeline::do_predict(LandmarkEstimator& est) {
     }
     const bool inside = region.in_box(pred.uv.x(), pred.uv.y());
     report_.in_view += inside ? 1 : 0;
+    Eigen::Vector3d landmark;
+    const bool has_distance = camera_known_ && est.landmark_position(slot, landmark);
+    // Seen too differently from the first sighting: still searched, but a miss is not held
+    // against it.
+    const bool expected = !has_distance || matchable(slot, landmark);
+    report_.unmatchable += expected ? 0 : 1;
+    // When there are more candidates than tracks: young landmarks in view first (a miss deletes
+    // them), then those in view as first seen, then the rest.
+    const int priority = !inside ? 0 : book_.young(slot) ? 3 : expected ? 2 : 1;
+    int index = track_count_;
     if (track_count_ < kMaxTracks) {
+      ++track_count_;
       ++report_.searched;
-      TrackRecord& t = at(tracks_, track_count_++);
-      t = TrackRecord{};
-      t.slot = slot;
-      t.region = region;
-      t.predicted_depth_m = pred.depth_m;
-      t.center_inside = inside;
-      t.has_distance = camera_known_ && est.landmark_position(slot, t.landmark);
-      t.distance_m = t.has_distance ? (t.landmark - camera_).norm() : 0.0;
     } else {
-      at(occupied_u_, occupied_count_) = pred.uv.x();
-      at(occupied_v_, occupied_count_) = pred.uv.y();
+      index = 0;
+      for (int i = 1; i < kMaxTracks; ++i) {
+        if (at(tracks_, i).priority < at(tracks_, index).priority) {
+          index = i;
+        }
+      }
+      const bool replace = at(tracks_, index).priority < priority;
+      const Eigen::Vector2d& spare = replace ? at(tracks_, index).region.center : pred.uv;
+      at(occupied_u_, occupied_count_) = spare.x();
+      at(occupied_v_, occupied_count_) = spare.y();
       ++occupied_count_;
+      if (!replace) {
+        continue;
+      }
     }
+    TrackRecord& t = at(tracks_, index);
+    t = TrackRecord{};
+    t.slot = slot;
+    t.region = region;
+    t.predicted_depth_m = pred.depth_m;
+    t.center_inside = inside && expected;
+    t.priority = priority;
+    t.has_distance = has_distance;
+    t.landmark = landmark;
+    t.distance_m = has_distance ? (landmark - camera_).norm() : 0.0;
   }
   if (cursor_ >= hal::kMaxLandmarks) {
     cursor_ = 0;
     stage_ = FrameStage::kTrack;
   }
+}
+
+bool FramePipeline::matchable(int slot, const Eigen::Vector3d& landmark) const {
+  const LandmarkPatch* patch = patches_.get(slot);
+  if (patch == nullptr || !patch->has_anchor) {
+    return true;
+  }
+  const Eigen::Vector3d from_anchor =
+      landmark - Eigen::Vector3d(patch->anchor[0], patch->anchor[1], patch->anchor[2]);
+  const Eigen::Vector3d from_camera = landmark - camera_;
+  const double a = from_anchor.norm();
+  const double c = from_camera.norm();
+  if (!(a > 0.0) || !(c > 0.0)) {
+    return true;
+  }
+  const double scale = a / c;
+  const double max_scale = config_.max_view_scale;
+  return scale <= max_scale && scale * max_scale >= 1.0 &&
+         from_anchor.dot(from_camera) >= config_.min_view_cos * a * c;
 }
 
 double FramePipeline::patch_scale(const LandmarkPatch& patch, const TrackRecord& t) const {
@@ -254,14 +297,18 @@ void FramePipeline::do_update(LandmarkEstimator& est) {
 }
 
 void FramePipeline::do_manage(LandmarkEstimator& est) {
+  matched_now_.fill(false);
   for (int i = 0; i < track_count_; ++i) {
     const TrackRecord& t = at(tracks_, i);
     const bool matched = t.result.found && t.inlier;
+    at(matched_now_, t.slot) = matched;
     if ((matched || t.center_inside) && book_.record(t.slot, matched)) {
-      est.delete_landmark(t.slot);
-      book_.remove(t.slot);
-      patches_.clear(t.slot);
-      ++report_.deleted;
+      remove_landmark(est, t.slot);
+    }
+  }
+  for (int slot = 0; slot < hal::kMaxLandmarks; ++slot) {
+    if (book_.active(slot) && book_.young(slot) && !at(matched_now_, slot)) {
+      remove_landmark(est, slot);
     }
   }
   // Landmarks matched in this frame (inliers) count as in view; new ones are wanted when there
@@ -284,11 +331,24 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
     // Twice as many candidates: those whose patch is an edge are passed over.
     new_corner_count_ = select_new_corners(
         detector_.corners(), detector_.corner_count(), occupied_u_.data(), occupied_v_.data(),
-        occupied_count_, bc.exclusion_px, config_.width, config_.height, kStoredPatchRadius + 2,
+        occupied_count_, bc.exclusion_px, config_.width, new_landmark_rows(), kStoredPatchRadius + 2,
         std::min(2 * new_wanted_, hal::kMaxCorners), new_corners_.data());
   }
   cursor_ = 0;
   stage_ = new_corner_count_ > 0 ? FrameStage::kInitialize : FrameStage::kDone;
+}
+
+int FramePipeline::new_landmark_rows() const {
+  // select_new_corners keeps corners at most rows - 1 - margin.
+  const double last = config_.new_landmark_max_row_fraction * (config_.height - 1);
+  return std::min(config_.height, static_cast<int>(last) + kStoredPatchRadius + 3);
+}
+
+void FramePipeline::remove_landmark(LandmarkEstimator& est, int slot) {
+  est.delete_landmark(slot);
+  book_.remove(slot);
+  patches_.clear(slot);
+  ++report_.deleted;
 }
 
 void FramePipeline::do_initialize(LandmarkEstimator& est) {

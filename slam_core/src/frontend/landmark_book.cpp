@@ -20,6 +20,7 @@ void LandmarkBook::activate(int slot) {
     ++active_count_;
   }
   failures_[s] = 0;
+  matches_[s] = 0;
 }
 
 void LandmarkBook::remove(int slot) {
@@ -32,6 +33,7 @@ void LandmarkBook::remove(int slot) {
     --active_count_;
   }
   failures_[s] = 0;
+  matches_[s] = 0;
 }
 
 bool LandmarkBook::active(int slot) const {
@@ -45,6 +47,9 @@ bool LandmarkBook::record(int slot, bool matched) {
   const auto s = static_cast<std::size_t>(slot);
   if (matched) {
     failures_[s] = 0;
+    if (matches_[s] < UINT16_MAX) {
+      ++matches_[s];
+    }
     return false;
   }
   if (failures_[s] < UINT16_MAX) {
@@ -55,6 +60,10 @@ bool LandmarkBook::record(int slot, bool matched) {
 
 int LandmarkBook::failures(int slot) const {
   return in_range(slot) ? failures_[static_cast<std::size_t>(slot)] : 0;
+}
+
+int LandmarkBook::matches(int slot) const {
+  return in_range(slot) ? matches_[static_cast<std::size_t>(slot)] : 0;
 }
 
 int select_new_corners(const Corner* corners, int corner_count, const double* occupied_u,

@@ -172,10 +172,9 @@ TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate&
     if (!region.in_box(x, y)) {
       continue;
     }
+    // Corners of the box outside the gate are candidates too: not to be accepted, but a
+    // look-alike there makes the match ambiguous.
     const double m2 = region.mahalanobis2(x, y);
-    if (m2 > region.gate_chi2) {
-      continue;
-    }
     int pos = nc;
     if (nc == kMaxCandidates) {
       if (m2 >= cm[kMaxCandidates - 1]) {
@@ -248,19 +247,23 @@ TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate&
     const Refinement r = refine(image, tmpl, u0, v0);
     ++result.starts_tried;
     result.iterations += r.iterations;
-    if (!r.converged || !region.contains(r.u_px, r.v_px)) {
+    if (!r.converged || !region.valid || !region.in_box(r.u_px, r.v_px)) {
       continue;
     }
     cand[static_cast<std::size_t>(ncand)] = r;
     cand_m2[static_cast<std::size_t>(ncand)] = region.mahalanobis2(r.u_px, r.v_px);
     ++ncand;
   }
-  if (ncand == 0) {
-    result.failure = TrackFailure::kNoConvergence;
-    return result;
-  }
-  int best = 0;
-  for (int i = 1; i < ncand; ++i) {
+  // The best inside the gate.
+  int best = -1;
+  for (int i = 0; i < ncand; ++i) {
+    if (cand_m2[static_cast<std::size_t>(i)] > region.gate_chi2) {
+      continue;
+    }
+    if (best < 0) {
+      best = i;
+      continue;
+    }
     const float ni = cand[static_cast<std::size_t>(i)].ncc;
     const float nb = cand[static_cast<std::size_t>(best)].ncc;
     if (ni > nb + config_.ncc_tie ||
@@ -268,6 +271,10 @@ TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate&
          cand_m2[static_cast<std::size_t>(i)] < cand_m2[static_cast<std::size_t>(best)])) {
       best = i;
     }
+  }
+  if (best < 0) {
+    result.failure = TrackFailure::kNoConvergence;
+    return result;
   }
   const Refinement& b = cand[static_cast<std::size_t>(best)];
   result.u_px = b.u_px;
@@ -277,7 +284,7 @@ TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate&
     result.failure = TrackFailure::kLowNcc;
     return result;
   }
-  // Repetitive texture: another place in the gate that matches about as well.
+  // Repetitive texture: another place in the search box that matches about as well.
   const double distinct2 =
       static_cast<double>(config_.distinct_px) * static_cast<double>(config_.distinct_px);
   for (int i = 0; i < ncand; ++i) {

@@ -27,6 +27,18 @@ struct FramePipelineConfig {
   LandmarkBookConfig book;
   // Two landmarks matched closer than this keep only the better match.
   double duplicate_px = 3.0;
+  // A landmark is searched only while its view is like the first sighting's (Davison's
+  // "predicted to be measurable"): its distance within a factor max_view_scale of the first one,
+  // and the angle between the two viewing rays with a cosine of at least min_view_cos. Otherwise
+  // its patch would not match, and a miss would be held against it, deleting the landmark before
+  // the robot comes back to where it can be found again (loop closure).
+  double max_view_scale = 1.8;
+  double min_view_cos = 0.82;  // 35 degrees
+  // New landmarks are taken only above this fraction of the image height. The default suits a
+  // camera close to the floor looking ahead: below, the floor is seen at grazing angles (its
+  // patches deform with every move) and its junction with walls and furniture makes corners that
+  // slide along it (occlusion boundaries). 1: the whole image.
+  double new_landmark_max_row_fraction = 0.7;
   // Bounded work per step().
   int detect_rows_per_step = 60;
   int predictions_per_step = 16;
@@ -62,6 +74,7 @@ struct TrackRecord {
   // border is still searched where its region overlaps the image, but a miss is not held
   // against it (it may simply have left the view).
   bool center_inside = false;
+  int priority = 0;  // who keeps a track when there are more candidates than tracks
 };
 
 struct FrameReport {
@@ -70,6 +83,7 @@ struct FrameReport {
   int corners = 0;
   int predicted = 0;
   int in_view = 0;   // predicted inside the searchable image
+  int unmatchable = 0;  // predicted, but seen too differently from the first sighting
   int searched = 0;  // regions searched (in view, and those overlapping the border)
   int tracked = 0;
   int duplicates = 0;
@@ -126,11 +140,14 @@ class FramePipeline {
   void do_detect();
   void do_predict(LandmarkEstimator& est);
   void do_track();
+  [[nodiscard]] bool matchable(int slot, const Eigen::Vector3d& landmark) const;
   [[nodiscard]] double patch_scale(const LandmarkPatch& patch, const TrackRecord& t) const;
   void do_associate(LandmarkEstimator& est);
   void do_update(LandmarkEstimator& est);
   void do_manage(LandmarkEstimator& est);
   void do_initialize(LandmarkEstimator& est);
+  void remove_landmark(LandmarkEstimator& est, int slot);
+  [[nodiscard]] int new_landmark_rows() const;
 
   FramePipelineConfig config_;
   HarrisDetector detector_;
@@ -161,6 +178,7 @@ class FramePipeline {
   std::array<double, 2 * kMaxTracks> nu_{};
   std::array<double, 4 * kMaxTracks * kMaxTracks> S_{};
   std::array<bool, kMaxTracks> inlier_{};
+  std::array<bool, hal::kMaxLandmarks> matched_now_{};
 
   std::array<int, hal::kMaxCorners> new_corners_{};
   int new_corner_count_ = 0;
