@@ -219,8 +219,9 @@ void FramePipeline::do_track() {
       t.result.failure = TrackFailure::kNoTemplate;
       continue;
     }
-    t.result =
-        tracker_.track(image_, tmpl, t.region, detector_.corners(), detector_.corner_count());
+    const bool reacquire = book_.frames_since_match(t.slot) > config_.reacquire_after_frames;
+    t.result = tracker_.track(image_, tmpl, t.region, detector_.corners(),
+                              detector_.corner_count(), reacquire);
     if (t.result.found) {
       ++report_.tracked;
       at(obs_, obs_count_) = {t.slot, t.result.u_px, t.result.v_px};
@@ -297,6 +298,7 @@ void FramePipeline::do_update(LandmarkEstimator& est) {
 }
 
 void FramePipeline::do_manage(LandmarkEstimator& est) {
+  book_.next_frame();
   matched_now_.fill(false);
   for (int i = 0; i < track_count_; ++i) {
     const TrackRecord& t = at(tracks_, i);

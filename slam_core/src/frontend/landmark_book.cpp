@@ -21,6 +21,7 @@ void LandmarkBook::activate(int slot) {
   }
   failures_[s] = 0;
   matches_[s] = 0;
+  last_match_[s] = frame_;
 }
 
 void LandmarkBook::remove(int slot) {
@@ -50,6 +51,7 @@ bool LandmarkBook::record(int slot, bool matched) {
     if (matches_[s] < UINT16_MAX) {
       ++matches_[s];
     }
+    last_match_[s] = frame_;
     return false;
   }
   if (failures_[s] < UINT16_MAX) {
@@ -60,6 +62,11 @@ bool LandmarkBook::record(int slot, bool matched) {
 
 int LandmarkBook::failures(int slot) const {
   return in_range(slot) ? failures_[static_cast<std::size_t>(slot)] : 0;
+}
+
+int LandmarkBook::frames_since_match(int slot) const {
+  return in_range(slot) ? static_cast<int>(frame_ - last_match_[static_cast<std::size_t>(slot)])
+                        : 0;
 }
 
 int LandmarkBook::matches(int slot) const {

@@ -147,8 +147,8 @@ Refinement Tracker::refine(const hal::GrayImageView& image, const PatchTemplate&
 }
 
 TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate& tmpl,
-                           const SearchRegion& region, const Corner* corners,
-                           int corner_count) const {
+                           const SearchRegion& region, const Corner* corners, int corner_count,
+                           bool reacquire) const {
   TrackResult result;
   if (!region.valid) {
     result.failure = TrackFailure::kNoRegion;
@@ -158,6 +158,17 @@ TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate&
     result.failure = TrackFailure::kNoTemplate;
     return result;
   }
+  // Where look-alikes are looked for: the region's box, for a reacquisition at least
+  // reacquire_box_px around the prediction.
+  const double grow = reacquire ? static_cast<double>(config_.reacquire_box_px) : 0.0;
+  const double bx0 = std::min(region.x_min, region.center.x() - grow);
+  const double bx1 = std::max(region.x_max, region.center.x() + grow);
+  const double by0 = std::min(region.y_min, region.center.y() - grow);
+  const double by1 = std::max(region.y_max, region.center.y() + grow);
+  const auto in_box = [&](double x, double y) {
+    return x >= bx0 && x <= bx1 && y >= by0 && y <= by1;
+  };
+  const float min_ncc = reacquire ? config_.reacquire_min_ncc : config_.min_ncc;
   // Start points: the prediction (clamped into the searchable box), then the corners inside the
   // gate whose window already resembles the template most (NCC at the corner, one pass each;
   // among the nearest kMaxCandidates when the gate holds more).
@@ -169,7 +180,7 @@ TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate&
   for (int i = 0; i < corner_count; ++i) {
     const double x = corners[i].x;
     const double y = corners[i].y;
-    if (!region.in_box(x, y)) {
+    if (!in_box(x, y)) {
       continue;
     }
     // Corners of the box outside the gate are candidates too: not to be accepted, but a
@@ -247,7 +258,7 @@ TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate&
     const Refinement r = refine(image, tmpl, u0, v0);
     ++result.starts_tried;
     result.iterations += r.iterations;
-    if (!r.converged || !region.valid || !region.in_box(r.u_px, r.v_px)) {
+    if (!r.converged || !in_box(r.u_px, r.v_px)) {
       continue;
     }
     cand[static_cast<std::size_t>(ncand)] = r;
@@ -257,7 +268,9 @@ TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate&
   // The best inside the gate.
   int best = -1;
   for (int i = 0; i < ncand; ++i) {
-    if (cand_m2[static_cast<std::size_t>(i)] > region.gate_chi2) {
+    if (cand_m2[static_cast<std::size_t>(i)] > region.gate_chi2 ||
+        !region.in_box(cand[static_cast<std::size_t>(i)].u_px,
+                       cand[static_cast<std::size_t>(i)].v_px)) {
       continue;
     }
     if (best < 0) {
@@ -280,7 +293,7 @@ TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate&
   result.u_px = b.u_px;
   result.v_px = b.v_px;
   result.ncc = b.ncc;
-  if (b.ncc < config_.min_ncc) {
+  if (b.ncc < min_ncc) {
     result.failure = TrackFailure::kLowNcc;
     return result;
   }

@@ -39,6 +39,10 @@ struct FramePipelineConfig {
   // patches deform with every move) and its junction with walls and furniture makes corners that
   // slide along it (occlusion boundaries). 1: the whole image.
   double new_landmark_max_row_fraction = 0.7;
+  // A landmark not matched for more frames than this is reacquired (Tracker::track): the pose
+  // may have drifted more than its covariance says, and a look-alike near the prediction must
+  // not close the loop.
+  int reacquire_after_frames = 10;
   // Bounded work per step().
   int detect_rows_per_step = 60;
   int predictions_per_step = 16;

@@ -37,6 +37,10 @@ class LandmarkBook {
   // now failed max_consecutive_failures times in a row and should be deleted.
   bool record(int slot, bool matched);
   [[nodiscard]] int failures(int slot) const;
+  // Starts a frame (for frames_since_match).
+  void next_frame() { ++frame_; }
+  // Frames since the landmark's last match (or activation).
+  [[nodiscard]] int frames_since_match(int slot) const;
   // Frames in which the landmark was matched since its activation.
   [[nodiscard]] int matches(int slot) const;
   // Still young (fewer than min_matches_to_keep matches): deleted at its first miss.
@@ -48,6 +52,8 @@ class LandmarkBook {
   std::array<bool, hal::kMaxLandmarks> active_{};
   std::array<std::uint16_t, hal::kMaxLandmarks> failures_{};
   std::array<std::uint16_t, hal::kMaxLandmarks> matches_{};
+  std::array<std::uint32_t, hal::kMaxLandmarks> last_match_{};
+  std::uint32_t frame_ = 0;
   int active_count_ = 0;
 };
 

@@ -35,6 +35,8 @@ struct TrackerConfig {
   // distinct_px away matches within ambiguity_ncc of its NCC.
   float distinct_px = 3.0F;
   float ambiguity_ncc = 0.03F;
+  float reacquire_min_ncc = 0.8F;
+  float reacquire_box_px = 30.0F;
 };
 
 enum class TrackFailure : std::uint8_t {
@@ -76,9 +78,12 @@ class Tracker {
  public:
   explicit Tracker(const TrackerConfig& config = {}) : config_(config) {}
 
+  // reacquire: the landmark has not been matched for a while (its prediction may be off by more
+  // than its region says): the match must clear reacquire_min_ncc, and look-alikes are looked for
+  // at least reacquire_box_px around the prediction.
   [[nodiscard]] TrackResult track(const hal::GrayImageView& image, const PatchTemplate& tmpl,
                                   const SearchRegion& region, const Corner* corners,
-                                  int corner_count) const;
+                                  int corner_count, bool reacquire = false) const;
 
   // One Lucas-Kanade run from (u, v).
   [[nodiscard]] Refinement refine(const hal::GrayImageView& image, const PatchTemplate& tmpl,
