@@ -155,8 +155,11 @@ TEST(FrontendPipeline, LandmarksThatKeepFailingAreDeletedAndReplaced) {
   fe::FramePipeline pipe;
   FakeEstimator est;
   const GrayImage first = render(Warp{});
-  pipe.begin_frame(first.view());
-  pipe.finish(est);
+  // Matched often enough not to be young any more (a young landmark goes at its first miss).
+  for (int k = 0; k <= pipe.book().config().min_matches_to_keep; ++k) {
+    pipe.begin_frame(first.view());
+    pipe.finish(est);
+  }
   // From now on the left half is covered by a flat board. Landmarks whose window lies on it
   // fail; those well right of its edge stay.
   std::vector<int> covered_slots;
@@ -332,5 +335,56 @@ TEST(FrontendPipeline, TwoLandmarksOnOnePixelKeepOnlyTheBetterMatch) {
         EXPECT_GE(std::hypot(a.result.u_px - b.result.u_px, a.result.v_px - b.result.v_px), 12.0);
       }
     }
+  }
+}
+
+TEST(FrontendPipeline, YoungLandmarksGoAtTheirFirstMiss) {
+  fe::FramePipeline pipe;
+  FakeEstimator est;
+  const GrayImage first = render(Warp{});
+  pipe.begin_frame(first.view());
+  pipe.finish(est);
+  ASSERT_EQ(est.used_count(), 10);
+  std::vector<int> covered_slots;
+  for (int s = 0; s < cleanslam::hal::kMaxLandmarks; ++s) {
+    double x = 0.0;
+    double y = 0.0;
+    est.texture_point(s, x, y);
+    if (est.used(s) && x < 152.0) {
+      covered_slots.push_back(s);
+      EXPECT_TRUE(pipe.book().young(s));
+    }
+  }
+  ASSERT_FALSE(covered_slots.empty());
+  GrayImage covered = render(Warp{});
+  for (int y = 0; y < 240; ++y) {
+    for (int x = 0; x < 160; ++x) {
+      covered.at(x, y) = 90;
+    }
+  }
+  pipe.begin_frame(covered.view());
+  const fe::FrameReport& r = pipe.finish(est);
+  // Each covered landmark is gone at once (its slot is free, or reused by a new landmark).
+  for (int s : covered_slots) {
+    bool reused = false;
+    for (int i = 0; i < pipe.new_landmark_count(); ++i) {
+      reused = reused || pipe.new_landmark(i).slot == s;
+    }
+    EXPECT_TRUE(!est.used(s) || reused) << "slot " << s;
+  }
+  EXPECT_GE(r.deleted, static_cast<int>(covered_slots.size()));
+}
+
+TEST(FrontendPipeline, NewLandmarksStayAboveTheFloorRows) {
+  fe::FramePipelineConfig cfg;
+  cfg.new_landmark_max_row_fraction = 0.5;
+  fe::FramePipeline pipe(cfg);
+  FakeEstimator est;
+  const GrayImage first = render(Warp{});
+  pipe.begin_frame(first.view());
+  const fe::FrameReport& r = pipe.finish(est);
+  EXPECT_GT(r.initialized, 0);
+  for (int i = 0; i < pipe.new_landmark_count(); ++i) {
+    EXPECT_LE(pipe.new_landmark(i).v_px, 0.5 * 239.0);
   }
 }

@@ -273,3 +273,88 @@ TEST(FrontendTracker, CornerStartsReachBeyondTheLucasKanadeBasin) {
   EXPECT_GE(o.tracked, o.total - 1);
   EXPECT_LT(o.max_error, 0.15);
 }
+
+namespace {
+
+// A dark square with a bright dot in one corner on mid-gray, centred on (cx, cy): a corner with
+// an isotropic template.
+void draw_mark(GrayImage& img, int cx, int cy) {
+  for (int y = cy - 4; y <= cy + 4; ++y) {
+    for (int x = cx - 4; x <= cx + 4; ++x) {
+      img.at(x, y) = 40;
+    }
+  }
+  for (int y = cy - 4; y <= cy - 2; ++y) {
+    for (int x = cx - 4; x <= cx - 2; ++x) {
+      img.at(x, y) = 230;
+    }
+  }
+}
+
+}  // namespace
+
+TEST(FrontendTracker, RepeatedPatternInTheRegionIsAmbiguous) {
+  GrayImage ref(320, 240, 128);
+  draw_mark(ref, 160, 120);
+  fe::LandmarkPatch patch;
+  ASSERT_TRUE(fe::capture_patch(ref.view(), 160, 120, 2.0, patch));
+  fe::PatchTemplate tmpl;
+  ASSERT_TRUE(fe::make_template(patch, 1.0, 3.0F, tmpl));
+  // One copy: found where it is.
+  GrayImage one(320, 240, 128);
+  draw_mark(one, 163, 121);
+  fe::HarrisDetector det;
+  det.detect(one.view(), 320, 240);
+  const fe::Tracker tracker;
+  const fe::SearchRegion region = fe::make_search_region(predict(161, 120, 6.0, 2.0), 320, 240);
+  const fe::TrackResult r1 = tracker.track(one.view(), tmpl, region, det.corners(),
+                                           det.corner_count());
+  ASSERT_TRUE(r1.found);
+  EXPECT_NEAR(r1.u_px, 163.0, 0.1);
+  EXPECT_NEAR(r1.v_px, 121.0, 0.1);
+  // Two identical copies 14 px apart inside the region: refused, not a coin toss.
+  GrayImage two = one;
+  draw_mark(two, 149, 121);
+  det.detect(two.view(), 320, 240);
+  const fe::TrackResult r2 = tracker.track(two.view(), tmpl, region, det.corners(),
+                                           det.corner_count());
+  EXPECT_FALSE(r2.found);
+  EXPECT_EQ(r2.failure, fe::TrackFailure::kAmbiguous);
+  // A look-alike outside the gate but inside the search box also makes it ambiguous...
+  GrayImage far = one;
+  draw_mark(far, 163, 145);
+  det.detect(far.view(), 320, 240);
+  const fe::SearchRegion narrow = fe::make_search_region(predict(162, 121, 2.0, 2.0), 320, 240);
+  EXPECT_FALSE(narrow.contains(163, 145));
+  const fe::TrackResult r3 =
+      tracker.track(far.view(), tmpl, narrow, det.corners(), det.corner_count());
+  EXPECT_TRUE(r3.found) << "outside the box: not looked at";
+  // ...when the landmark is reacquired after a while (the box then spans 30 px at least).
+  const fe::TrackResult r4 =
+      tracker.track(far.view(), tmpl, narrow, det.corners(), det.corner_count(), true);
+  EXPECT_FALSE(r4.found);
+  EXPECT_EQ(r4.failure, fe::TrackFailure::kAmbiguous);
+}
+
+TEST(FrontendPatch, IsotropySeparatesCornersFromEdges) {
+  GrayImage corner(320, 240, 128);
+  draw_mark(corner, 160, 120);
+  GrayImage edge(320, 240, 60);
+  for (int y = 0; y < 240; ++y) {
+    for (int x = 160; x < 320; ++x) {
+      edge.at(x, y) = 200;
+    }
+  }
+  fe::LandmarkPatch pc;
+  fe::LandmarkPatch pe;
+  ASSERT_TRUE(fe::capture_patch(corner.view(), 160, 120, 2.0, pc));
+  ASSERT_TRUE(fe::capture_patch(edge.view(), 160.3, 120, 2.0, pe));
+  fe::PatchTemplate tc;
+  fe::PatchTemplate te;
+  ASSERT_TRUE(fe::make_template(pc, 1.0, 3.0F, tc));
+  EXPECT_GT(tc.isotropy, 0.5F);
+  // A straight edge has no gradient along it: singular, or an isotropy far below the tracker's.
+  if (fe::make_template(pe, 1.0, 3.0F, te)) {
+    EXPECT_LT(te.isotropy, 0.05F);
+  }
+}

@@ -26,7 +26,7 @@ struct TrackerConfig {
   float min_template_std = 3.0F;
   // Templates less isotropic than this (PatchTemplate::isotropy) are edges, whose match slides
   // along the edge after the prediction: not tracked, and not taken as new landmarks.
-  float min_template_isotropy = 0.0F;
+  float min_template_isotropy = 0.03F;
   // Image windows flatter than this are not matched (black, white, saturated).
   float min_window_std = 1.0F;
   // Candidates whose NCC differ by less than this are ranked by distance to the prediction.
@@ -45,7 +45,7 @@ enum class TrackFailure : std::uint8_t {
   kNoTemplate,
   kNoConvergence,
   kLowNcc,
-  kAmbiguous,  // another place in the gate matches about as well (repetitive texture)
+  kAmbiguous,  // another place in the search box matches about as well (repetitive texture)
   kDuplicate,  // another landmark matched the same pixel with a higher NCC (frame pipeline)
 };
 
