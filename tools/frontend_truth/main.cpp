@@ -256,7 +256,8 @@ int replay_errors(const Options& o, const sim::Scenario& sc, const sim::Trajecto
   const auto stamps = frame_stamps(o.dataset);
   const auto rows = read_diagnostics(o.diagnostics);
   if (stamps.empty() || rows.empty()) {
-    std::fprintf(stderr, "cleanslam-frontend-truth: no frames in %s/cam0/data.csv or no rows in %s\n",
+    std::fprintf(stderr,
+                 "cleanslam-frontend-truth: no frames in %s/cam0/data.csv or no rows in %s\n",
                  o.dataset.c_str(), o.diagnostics.c_str());
     return 1;
   }
@@ -297,8 +298,8 @@ int replay_errors(const Options& o, const sim::Scenario& sc, const sim::Trajecto
     double u = 0.0;
     double v = 0.0;
     if (!sim::project(cam, wc.apply_inverse(tr.point), u, v)) continue;
-    const Sample s{std::hypot(r.u - u, r.v - v), r.u - u, r.v - v, static_cast<int>(k - tr.born),
-                   tr.boundary, 0.0F};
+    const Sample s{std::hypot(r.u - u, r.v - v),  r.u - u,     r.v - v,
+                   static_cast<int>(k - tr.born), tr.boundary, 0.0F};
     (r.status == "updated" ? updated : gated).push_back(s);
     if (csv.is_open()) {
       csv << k << ',' << r.slot << ',' << r.status << ',' << s.age << ',' << (s.boundary ? 1 : 0)
@@ -411,8 +412,8 @@ int main(int argc, char** argv) {
       const double ex = r.u_px - u;
       const double ey = r.v_px - v;
       if (csv.is_open()) {
-        csv << k << ',' << tr.age << ',' << (tr.boundary ? 1 : 0) << ',' << (r.found ? 1 : 0)
-            << ',' << r.ncc << ',' << ex << ',' << ey << '\n';
+        csv << k << ',' << tr.age << ',' << (tr.boundary ? 1 : 0) << ',' << (r.found ? 1 : 0) << ','
+            << r.ncc << ',' << ex << ',' << ey << '\n';
       }
       if (!r.found) {
         ++misses;
@@ -427,8 +428,7 @@ int main(int argc, char** argv) {
     tracks = std::move(kept);
 
     // New tracks at the strongest corners away from the live ones.
-    for (int i = 0; i < harris.corner_count() && static_cast<int>(tracks.size()) < o.tracks;
-         ++i) {
+    for (int i = 0; i < harris.corner_count() && static_cast<int>(tracks.size()) < o.tracks; ++i) {
       const fe::Corner& c = harris.corners()[i];
       bool free = true;
       for (const auto& [ou, ov] : occupied) {
@@ -449,11 +449,11 @@ int main(int argc, char** argv) {
     }
   }
 
-  std::printf("%s seed %llu: searches %d, found %zu, missed %d (%.1f %%), no template %d, "
-              "occluded %d\n",
-              sc.name.c_str(), static_cast<unsigned long long>(sc.seed), searches, samples.size(),
-              misses, searches > 0 ? 100.0 * misses / searches : 0.0, invalid_templates,
-              occluded_lost);
+  std::printf(
+      "%s seed %llu: searches %d, found %zu, missed %d (%.1f %%), no template %d, "
+      "occluded %d\n",
+      sc.name.c_str(), static_cast<unsigned long long>(sc.seed), searches, samples.size(), misses,
+      searches > 0 ? 100.0 * misses / searches : 0.0, invalid_templates, occluded_lost);
   std::printf("tracks started %d, on an occlusion boundary or surface edge %d (%.1f %%)\n", spawned,
               spawned_boundary, spawned > 0 ? 100.0 * spawned_boundary / spawned : 0.0);
   summarize("all", samples, o.outlier_px);

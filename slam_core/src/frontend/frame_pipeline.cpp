@@ -220,8 +220,8 @@ void FramePipeline::do_track() {
       continue;
     }
     const bool reacquire = book_.frames_since_match(t.slot) > config_.reacquire_after_frames;
-    t.result = tracker_.track(image_, tmpl, t.region, detector_.corners(),
-                              detector_.corner_count(), reacquire);
+    t.result = tracker_.track(image_, tmpl, t.region, detector_.corners(), detector_.corner_count(),
+                              reacquire);
     if (t.result.found) {
       ++report_.tracked;
       at(obs_, obs_count_) = {t.slot, t.result.u_px, t.result.v_px};
@@ -333,8 +333,8 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
     // Twice as many candidates: those whose patch is an edge are passed over.
     new_corner_count_ = select_new_corners(
         detector_.corners(), detector_.corner_count(), occupied_u_.data(), occupied_v_.data(),
-        occupied_count_, bc.exclusion_px, config_.width, new_landmark_rows(), kStoredPatchRadius + 2,
-        std::min(2 * new_wanted_, hal::kMaxCorners), new_corners_.data());
+        occupied_count_, bc.exclusion_px, config_.width, new_landmark_rows(),
+        kStoredPatchRadius + 2, std::min(2 * new_wanted_, hal::kMaxCorners), new_corners_.data());
   }
   cursor_ = 0;
   stage_ = new_corner_count_ > 0 ? FrameStage::kInitialize : FrameStage::kDone;

@@ -213,8 +213,8 @@ TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate&
   int n = 1;
   const int max_starts = std::clamp(config_.max_corner_starts + 1, 1, kMaxStarts);
   for (int i = 0; i < nc; ++i) {
-    const float ncc = window_ncc(image, tmpl, cu[static_cast<std::size_t>(i)],
-                                 cv[static_cast<std::size_t>(i)]);
+    const float ncc =
+        window_ncc(image, tmpl, cu[static_cast<std::size_t>(i)], cv[static_cast<std::size_t>(i)]);
     if (!(ncc > config_.min_start_ncc)) {
       continue;
     }

@@ -307,8 +307,8 @@ TEST(FrontendTracker, RepeatedPatternInTheRegionIsAmbiguous) {
   det.detect(one.view(), 320, 240);
   const fe::Tracker tracker;
   const fe::SearchRegion region = fe::make_search_region(predict(161, 120, 6.0, 2.0), 320, 240);
-  const fe::TrackResult r1 = tracker.track(one.view(), tmpl, region, det.corners(),
-                                           det.corner_count());
+  const fe::TrackResult r1 =
+      tracker.track(one.view(), tmpl, region, det.corners(), det.corner_count());
   ASSERT_TRUE(r1.found);
   EXPECT_NEAR(r1.u_px, 163.0, 0.1);
   EXPECT_NEAR(r1.v_px, 121.0, 0.1);
@@ -316,8 +316,8 @@ TEST(FrontendTracker, RepeatedPatternInTheRegionIsAmbiguous) {
   GrayImage two = one;
   draw_mark(two, 149, 121);
   det.detect(two.view(), 320, 240);
-  const fe::TrackResult r2 = tracker.track(two.view(), tmpl, region, det.corners(),
-                                           det.corner_count());
+  const fe::TrackResult r2 =
+      tracker.track(two.view(), tmpl, region, det.corners(), det.corner_count());
   EXPECT_FALSE(r2.found);
   EXPECT_EQ(r2.failure, fe::TrackFailure::kAmbiguous);
   // A look-alike outside the gate but inside the search box also makes it ambiguous...

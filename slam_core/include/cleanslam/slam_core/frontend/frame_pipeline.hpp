@@ -86,9 +86,9 @@ struct FrameReport {
   bool featureless = false;  // no corner: nothing tracked, nothing counted against landmarks
   int corners = 0;
   int predicted = 0;
-  int in_view = 0;   // predicted inside the searchable image
+  int in_view = 0;      // predicted inside the searchable image
   int unmatchable = 0;  // predicted, but seen too differently from the first sighting
-  int searched = 0;  // regions searched (in view, and those overlapping the border)
+  int searched = 0;     // regions searched (in view, and those overlapping the border)
   int tracked = 0;
   int duplicates = 0;
   int inliers = 0;
