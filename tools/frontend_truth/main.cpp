@@ -208,6 +208,19 @@ void summarize(const char* label, const std::vector<Sample>& s, double outlier_p
       std::sqrt(rms_y / n_in), mean_x / n_in, mean_y / n_in);
 }
 
+// summarize() of the interior and the boundary samples separately.
+void summarize_by_boundary(const char* interior, const char* boundary, const std::vector<Sample>& s,
+                           double outlier_px) {
+  std::vector<Sample> part;
+  for (bool b : {false, true}) {
+    part.clear();
+    for (const Sample& x : s) {
+      if (x.boundary == b) part.push_back(x);
+    }
+    summarize(b ? boundary : interior, part, outlier_px);
+  }
+}
+
 // Frame stamps of the dataset in order (cam0/data.csv), so that a stamp gives the frame index
 // and so the true capture time.
 std::vector<long long> frame_stamps(const std::string& dataset) {
@@ -308,14 +321,7 @@ int replay_errors(const Options& o, const sim::Scenario& sc, const sim::Trajecto
   }
   summarize("updated (inliers)", updated, o.outlier_px);
   summarize("gated (JCBB outliers)", gated, o.outlier_px);
-  std::vector<Sample> part;
-  for (bool b : {false, true}) {
-    part.clear();
-    for (const Sample& s : updated) {
-      if (s.boundary == b) part.push_back(s);
-    }
-    summarize(b ? "updated, boundary" : "updated, interior", part, o.outlier_px);
-  }
+  summarize_by_boundary("updated, interior", "updated, boundary", updated, o.outlier_px);
   return 0;
 }
 
@@ -457,14 +463,8 @@ int main(int argc, char** argv) {
   std::printf("tracks started %d, on an occlusion boundary or surface edge %d (%.1f %%)\n", spawned,
               spawned_boundary, spawned > 0 ? 100.0 * spawned_boundary / spawned : 0.0);
   summarize("all", samples, o.outlier_px);
+  summarize_by_boundary("interior", "boundary", samples, o.outlier_px);
   std::vector<Sample> part;
-  for (bool b : {false, true}) {
-    part.clear();
-    for (const Sample& s : samples) {
-      if (s.boundary == b) part.push_back(s);
-    }
-    summarize(b ? "boundary" : "interior", part, o.outlier_px);
-  }
   const int bins[][2] = {{1, 1}, {2, 3}, {4, 7}, {8, 15}, {16, 1000000}};
   for (const auto& bin : bins) {
     part.clear();

@@ -50,6 +50,17 @@ double max_track_error(const fe::FramePipeline& pipe, const FakeEstimator& est, 
   return worst;
 }
 
+// The reference view with its left half covered by a flat board.
+GrayImage covered_left_half() {
+  GrayImage covered = render(Warp{});
+  for (int y = 0; y < 240; ++y) {
+    for (int x = 0; x < 160; ++x) {
+      covered.at(x, y) = 90;
+    }
+  }
+  return covered;
+}
+
 }  // namespace
 
 TEST(FrontendPipeline, FirstFrameInitializesTheTargetNumberOfLandmarks) {
@@ -178,12 +189,7 @@ TEST(FrontendPipeline, LandmarksThatKeepFailingAreDeletedAndReplaced) {
   }
   ASSERT_FALSE(covered_slots.empty());
   ASSERT_FALSE(free_slots.empty());
-  GrayImage covered = render(Warp{});
-  for (int y = 0; y < 240; ++y) {
-    for (int x = 0; x < 160; ++x) {
-      covered.at(x, y) = 90;
-    }
-  }
+  const GrayImage covered = covered_left_half();
   int deleted = 0;
   for (int k = 1; k <= 3; ++k) {
     pipe.begin_frame(covered.view());
@@ -356,12 +362,7 @@ TEST(FrontendPipeline, YoungLandmarksGoAtTheirFirstMiss) {
     }
   }
   ASSERT_FALSE(covered_slots.empty());
-  GrayImage covered = render(Warp{});
-  for (int y = 0; y < 240; ++y) {
-    for (int x = 0; x < 160; ++x) {
-      covered.at(x, y) = 90;
-    }
-  }
+  const GrayImage covered = covered_left_half();
   pipe.begin_frame(covered.view());
   const fe::FrameReport& r = pipe.finish(est);
   // Each covered landmark is gone at once (its slot is free, or reused by a new landmark).
