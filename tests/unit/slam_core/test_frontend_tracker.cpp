@@ -294,44 +294,44 @@ void draw_mark(GrayImage& img, int cx, int cy) {
 }  // namespace
 
 TEST(FrontendTracker, RepeatedPatternInTheRegionIsAmbiguous) {
+  // The landmark is the strongest corner of a mark; the frames hold shifted copies of the mark.
   GrayImage ref(320, 240, 128);
   draw_mark(ref, 160, 120);
+  fe::HarrisDetector det;
+  det.detect(ref.view(), 320, 240);
+  ASSERT_GT(det.corner_count(), 0);
+  const double cx = det.corners()[0].x;
+  const double cy = det.corners()[0].y;
   fe::LandmarkPatch patch;
-  ASSERT_TRUE(fe::capture_patch(ref.view(), 160, 120, 2.0, patch));
+  ASSERT_TRUE(fe::capture_patch(ref.view(), cx, cy, 2.0, patch));
   fe::PatchTemplate tmpl;
   ASSERT_TRUE(fe::make_template(patch, 1.0, 3.0F, tmpl));
-  // One copy: found where it is.
+  const fe::Tracker tracker;
+  const auto track = [&](const GrayImage& img, double sigma, bool reacquire) {
+    det.detect(img.view(), 320, 240);
+    const fe::SearchRegion region =
+        fe::make_search_region(predict(cx + 2.0, cy, sigma, 2.0), 320, 240);
+    return tracker.track(img.view(), tmpl, region, det.corners(), det.corner_count(), reacquire);
+  };
+  // One copy, moved by (3, 1): found there.
   GrayImage one(320, 240, 128);
   draw_mark(one, 163, 121);
-  fe::HarrisDetector det;
-  det.detect(one.view(), 320, 240);
-  const fe::Tracker tracker;
-  const fe::SearchRegion region = fe::make_search_region(predict(161, 120, 6.0, 2.0), 320, 240);
-  const fe::TrackResult r1 =
-      tracker.track(one.view(), tmpl, region, det.corners(), det.corner_count());
+  const fe::TrackResult r1 = track(one, 6.0, false);
   ASSERT_TRUE(r1.found);
-  EXPECT_NEAR(r1.u_px, 163.0, 0.1);
-  EXPECT_NEAR(r1.v_px, 121.0, 0.1);
-  // Two identical copies 14 px apart inside the region: refused, not a coin toss.
+  EXPECT_NEAR(r1.u_px, cx + 3.0, 0.1);
+  EXPECT_NEAR(r1.v_px, cy + 1.0, 0.1);
+  // A second identical copy 14 px to the left, inside the region: refused, not a coin toss.
   GrayImage two = one;
   draw_mark(two, 149, 121);
-  det.detect(two.view(), 320, 240);
-  const fe::TrackResult r2 =
-      tracker.track(two.view(), tmpl, region, det.corners(), det.corner_count());
+  const fe::TrackResult r2 = track(two, 6.0, false);
   EXPECT_FALSE(r2.found);
   EXPECT_EQ(r2.failure, fe::TrackFailure::kAmbiguous);
-  // A look-alike outside the gate but inside the search box also makes it ambiguous...
+  // A copy 24 px below: outside a narrow region's box it is not looked at...
   GrayImage far = one;
   draw_mark(far, 163, 145);
-  det.detect(far.view(), 320, 240);
-  const fe::SearchRegion narrow = fe::make_search_region(predict(162, 121, 2.0, 2.0), 320, 240);
-  EXPECT_FALSE(narrow.contains(163, 145));
-  const fe::TrackResult r3 =
-      tracker.track(far.view(), tmpl, narrow, det.corners(), det.corner_count());
-  EXPECT_TRUE(r3.found) << "outside the box: not looked at";
-  // ...when the landmark is reacquired after a while (the box then spans 30 px at least).
-  const fe::TrackResult r4 =
-      tracker.track(far.view(), tmpl, narrow, det.corners(), det.corner_count(), true);
+  EXPECT_TRUE(track(far, 2.0, false).found);
+  // ...but a landmark reacquired after a while is checked at least 30 px around.
+  const fe::TrackResult r4 = track(far, 2.0, true);
   EXPECT_FALSE(r4.found);
   EXPECT_EQ(r4.failure, fe::TrackFailure::kAmbiguous);
 }
