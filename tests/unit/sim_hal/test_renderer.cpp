@@ -150,8 +150,8 @@ TEST(Renderer, PixelsAverageTheirAreaAcrossAnEdge) {
     const int above = img.pixels[static_cast<std::size_t>((row - 2) * 320 + 160)];
     const int at = img.pixels[static_cast<std::size_t>(row * 320 + 160)];
     const int below = img.pixels[static_cast<std::size_t>((row + 2) * 320 + 160)];
-    if (std::abs(above - below) > 20 && at > std::min(above, below) + 3 &&
-        at < std::max(above, below) - 3) {
+    if (std::abs(above - below) > 8 && at > std::min(above, below) + 2 &&
+        at < std::max(above, below) - 2) {
       ++blended;
     }
   }
