@@ -119,8 +119,8 @@ TEST(Renderer, PointAtASubPixelProjectsBackToIt) {
   auto sc = room({"camera.distortion=[-0.2, 0.05, 0.001, -0.001]"});
   sim::Renderer r(sc);
   const auto wc = camera_at(sc, 2.0, 2.0, 0.7);
-  for (const auto& [u, v] : {std::pair{10.25, 12.5}, {159.5, 119.5}, {301.75, 40.125},
-                             {200.3, 230.9}}) {
+  for (const auto& [u, v] :
+       {std::pair{10.25, 12.5}, {159.5, 119.5}, {301.75, 40.125}, {200.3, 230.9}}) {
     const auto hit = r.point_at(wc, u, v);
     ASSERT_GE(hit.surface, 0);
     EXPECT_NEAR(sim::norm(hit.point - wc.position), hit.distance, 1e-9);
@@ -135,8 +135,8 @@ TEST(Renderer, PointAtASubPixelProjectsBackToIt) {
 TEST(Renderer, PixelsAverageTheirAreaAcrossAnEdge) {
   // The wall's foot crosses the column part-way through a pixel: that pixel is a blend of wall
   // and floor, not one or the other (four samples per pixel), so edges move smoothly.
-  auto sc = room({"camera.tilt_deg=0", "world.furniture=[]", "camera.image_noise=0",
-                  "camera.blur=0"});
+  auto sc =
+      room({"camera.tilt_deg=0", "world.furniture=[]", "camera.image_noise=0", "camera.blur=0"});
   sim::Renderer r(sc);
   sim::Random rng(1, 1);
   cleanslam::sim_hal::GrayImage img;
