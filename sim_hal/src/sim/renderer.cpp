@@ -50,12 +50,24 @@ Renderer::Renderer(const Scenario& sc)
       noise_sigma_(sc.camera.image_noise),
       blur_(sc.camera.blur) {
   const int w = camera_.width, h = camera_.height;
-  rays_.reserve(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  rays_.reserve(pixels);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) rays_.push_back(pixel_ray(camera_, x, y));
   }
-  radiance_.resize(rays_.size());
-  scratch_.resize(rays_.size());
+  // A pixel integrates the light over its area: kSamples rays on a rotated grid inside it (the
+  // pixel centre at integer coordinates, as cx, cy), so that edges are not stair-stepped and a
+  // corner's image moves smoothly with the camera.
+  sample_rays_.reserve(pixels * kSamples);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      for (const auto& o : kSampleOffsets) {
+        sample_rays_.push_back(pixel_ray(camera_, x + o[0], y + o[1]));
+      }
+    }
+  }
+  radiance_.resize(pixels);
+  scratch_.resize(pixels);
 }
 
 double Renderer::albedo(int surface, double a, double b) const {
@@ -110,6 +122,13 @@ int Renderer::surface_at(const Pose3& world_camera, int x, int y) const {
   const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(camera_.width) +
                         static_cast<std::size_t>(x);
   return cast(world_camera.position, world_camera.rotation * rays_[i]).surface;
+}
+
+Renderer::SurfacePoint Renderer::point_at(const Pose3& world_camera, double u, double v) const {
+  const Vec3 dir = world_camera.rotation * pixel_ray(camera_, u, v);
+  const Hit hit = cast(world_camera.position, dir);
+  if (hit.surface < 0) return {};
+  return {hit.surface, world_camera.position + hit.distance * dir, hit.distance};
 }
 
 Renderer::Hit Renderer::cast(Vec3 o, Vec3 d) const {
@@ -176,15 +195,19 @@ void Renderer::render(const Pose3& wc, double exposure, Random& rng, GrayImage& 
   const int w = camera_.width, h = camera_.height;
   const std::size_t n = rays_.size();
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 dir = wc.rotation * rays_[i];
-    const Hit hit = cast(wc.position, dir);
-    double v = 0.5;
-    if (hit.surface >= 0) {
-      const double shade = 0.45 + 0.55 * hit.cos_incidence;
-      const double falloff = 1.0 / (1.0 + 0.04 * hit.distance * hit.distance);
-      v = albedo(hit.surface, hit.a, hit.b) * shade * (0.6 + 0.4 * falloff);
+    double sum = 0.0;
+    for (std::size_t k = 0; k < kSamples; ++k) {
+      const Vec3 dir = wc.rotation * sample_rays_[i * kSamples + k];
+      const Hit hit = cast(wc.position, dir);
+      double v = 0.5;
+      if (hit.surface >= 0) {
+        const double shade = 0.45 + 0.55 * hit.cos_incidence;
+        const double falloff = 1.0 / (1.0 + 0.04 * hit.distance * hit.distance);
+        v = albedo(hit.surface, hit.a, hit.b) * shade * (0.6 + 0.4 * falloff);
+      }
+      sum += v;
     }
-    radiance_[i] = static_cast<float>(v * exposure * 255.0);
+    radiance_[i] = static_cast<float>(sum / static_cast<double>(kSamples) * exposure * 255.0);
   }
   // A little blur: separable [1 b 1] / (2 + b) kernels, b from the scenario (0: none).
   if (blur_ > 0.0) {

@@ -116,6 +116,9 @@ void FramePipeline::do_detect() {
 }
 
 void FramePipeline::do_predict(LandmarkEstimator& est) {
+  if (cursor_ == 0) {
+    camera_known_ = est.camera_position(camera_);
+  }
   int done = 0;
   while (cursor_ < hal::kMaxLandmarks && done < config_.predictions_per_step) {
     const int slot = cursor_++;
@@ -135,24 +138,77 @@ void FramePipeline::do_predict(LandmarkEstimator& est) {
     }
     const bool inside = region.in_box(pred.uv.x(), pred.uv.y());
     report_.in_view += inside ? 1 : 0;
+    Eigen::Vector3d landmark;
+    const bool has_distance = camera_known_ && est.landmark_position(slot, landmark);
+    // Seen too differently from the first sighting: still searched, but a miss is not held
+    // against it.
+    const bool expected = !has_distance || matchable(slot, landmark);
+    report_.unmatchable += expected ? 0 : 1;
+    // When there are more candidates than tracks: young landmarks in view first (a miss deletes
+    // them), then those in view as first seen, then the rest.
+    const int priority = !inside ? 0 : book_.young(slot) ? 3 : expected ? 2 : 1;
+    int index = track_count_;
     if (track_count_ < kMaxTracks) {
+      ++track_count_;
       ++report_.searched;
-      TrackRecord& t = at(tracks_, track_count_++);
-      t = TrackRecord{};
-      t.slot = slot;
-      t.region = region;
-      t.predicted_depth_m = pred.depth_m;
-      t.center_inside = inside;
     } else {
-      at(occupied_u_, occupied_count_) = pred.uv.x();
-      at(occupied_v_, occupied_count_) = pred.uv.y();
+      index = 0;
+      for (int i = 1; i < kMaxTracks; ++i) {
+        if (at(tracks_, i).priority < at(tracks_, index).priority) {
+          index = i;
+        }
+      }
+      const bool replace = at(tracks_, index).priority < priority;
+      const Eigen::Vector2d& spare = replace ? at(tracks_, index).region.center : pred.uv;
+      at(occupied_u_, occupied_count_) = spare.x();
+      at(occupied_v_, occupied_count_) = spare.y();
       ++occupied_count_;
+      if (!replace) {
+        continue;
+      }
     }
+    TrackRecord& t = at(tracks_, index);
+    t = TrackRecord{};
+    t.slot = slot;
+    t.region = region;
+    t.predicted_depth_m = pred.depth_m;
+    t.center_inside = inside && expected;
+    t.priority = priority;
+    t.has_distance = has_distance;
+    t.landmark = landmark;
+    t.distance_m = has_distance ? (landmark - camera_).norm() : 0.0;
   }
   if (cursor_ >= hal::kMaxLandmarks) {
     cursor_ = 0;
     stage_ = FrameStage::kTrack;
   }
+}
+
+bool FramePipeline::matchable(int slot, const Eigen::Vector3d& landmark) const {
+  const LandmarkPatch* patch = patches_.get(slot);
+  if (patch == nullptr || !patch->has_anchor) {
+    return true;
+  }
+  const Eigen::Vector3d from_anchor =
+      landmark - Eigen::Vector3d(patch->anchor[0], patch->anchor[1], patch->anchor[2]);
+  const Eigen::Vector3d from_camera = landmark - camera_;
+  const double a = from_anchor.norm();
+  const double c = from_camera.norm();
+  if (!(a > 0.0) || !(c > 0.0)) {
+    return true;
+  }
+  const double scale = a / c;
+  const double max_scale = config_.max_view_scale;
+  return scale <= max_scale && scale * max_scale >= 1.0 &&
+         from_anchor.dot(from_camera) >= config_.min_view_cos * a * c;
+}
+
+double FramePipeline::patch_scale(const LandmarkPatch& patch, const TrackRecord& t) const {
+  if (patch.has_anchor && t.has_distance) {
+    const Eigen::Vector3d anchor(patch.anchor[0], patch.anchor[1], patch.anchor[2]);
+    return predicted_patch_scale((t.landmark - anchor).norm(), t.distance_m);
+  }
+  return predicted_patch_scale(patch.first_depth_m, t.predicted_depth_m);
 }
 
 void FramePipeline::do_track() {
@@ -162,13 +218,13 @@ void FramePipeline::do_track() {
     const LandmarkPatch* patch = patches_.get(t.slot);
     PatchTemplate tmpl;
     if (patch == nullptr ||
-        !make_template(*patch, predicted_patch_scale(patch->first_depth_m, t.predicted_depth_m),
-                       config_.tracker.min_template_std, tmpl)) {
+        !make_template(*patch, patch_scale(*patch, t), config_.tracker.min_template_std, tmpl)) {
       t.result.failure = TrackFailure::kNoTemplate;
       continue;
     }
-    t.result =
-        tracker_.track(image_, tmpl, t.region, detector_.corners(), detector_.corner_count());
+    const bool reacquire = book_.frames_since_match(t.slot) > config_.reacquire_after_frames;
+    t.result = tracker_.track(image_, tmpl, t.region, detector_.corners(), detector_.corner_count(),
+                              reacquire);
     if (t.result.found) {
       ++report_.tracked;
       at(obs_, obs_count_) = {t.slot, t.result.u_px, t.result.v_px};
@@ -258,14 +314,19 @@ void FramePipeline::do_fuse(LandmarkEstimator& est) {
 }
 
 void FramePipeline::do_manage(LandmarkEstimator& est) {
+  book_.next_frame();
+  matched_now_.fill(false);
   for (int i = 0; i < track_count_; ++i) {
     const TrackRecord& t = at(tracks_, i);
     const bool matched = t.result.found && t.inlier;
+    at(matched_now_, t.slot) = matched;
     if ((matched || t.center_inside) && book_.record(t.slot, matched)) {
-      est.delete_landmark(t.slot);
-      book_.remove(t.slot);
-      patches_.clear(t.slot);
-      ++report_.deleted;
+      remove_landmark(est, t.slot);
+    }
+  }
+  for (int slot = 0; slot < hal::kMaxLandmarks; ++slot) {
+    if (book_.active(slot) && book_.young(slot) && !at(matched_now_, slot)) {
+      remove_landmark(est, slot);
     }
   }
   // Landmarks matched in this frame (inliers) count as in view; new ones are wanted when there
@@ -281,22 +342,44 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
     }
   }
   new_corner_count_ = 0;
+  new_wanted_ = 0;
   const LandmarkBookConfig& bc = book_.config();
   if (matched < bc.min_in_view) {
-    const int want = std::min(bc.target_in_view - matched, hal::kMaxCorners);
-    new_corner_count_ =
-        select_new_corners(detector_.corners(), detector_.corner_count(), occupied_u_.data(),
-                           occupied_v_.data(), occupied_count_, bc.exclusion_px, config_.width,
-                           config_.height, kStoredPatchRadius + 2, want, new_corners_.data());
+    new_wanted_ = std::min(bc.target_in_view - matched, hal::kMaxCorners);
+    // Twice as many candidates: those whose patch is an edge are passed over.
+    new_corner_count_ = select_new_corners(
+        detector_.corners(), detector_.corner_count(), occupied_u_.data(), occupied_v_.data(),
+        occupied_count_, bc.exclusion_px, config_.width, new_landmark_rows(),
+        kStoredPatchRadius + 2, std::min(2 * new_wanted_, hal::kMaxCorners), new_corners_.data());
   }
   cursor_ = 0;
   stage_ = new_corner_count_ > 0 ? FrameStage::kInitialize : FrameStage::kDone;
 }
 
+int FramePipeline::new_landmark_rows() const {
+  // select_new_corners keeps corners at most rows - 1 - margin.
+  const double last = config_.new_landmark_max_row_fraction * (config_.height - 1);
+  return std::min(config_.height, static_cast<int>(last) + kStoredPatchRadius + 3);
+}
+
+void FramePipeline::remove_landmark(LandmarkEstimator& est, int slot) {
+  est.delete_landmark(slot);
+  book_.remove(slot);
+  patches_.clear(slot);
+  ++report_.deleted;
+}
+
 void FramePipeline::do_initialize(LandmarkEstimator& est) {
   const int end = std::min(new_corner_count_, cursor_ + config_.initializations_per_step);
-  for (; cursor_ < end; ++cursor_) {
+  for (; cursor_ < end && new_count_ < new_wanted_; ++cursor_) {
     const Corner& c = detector_.corners()[at(new_corners_, cursor_)];
+    if (!capture_patch(image_, c.x, c.y, 1.0, candidate_patch_) ||
+        !make_template(candidate_patch_, 1.0, config_.tracker.min_template_std,
+                       candidate_template_) ||
+        candidate_template_.isotropy < config_.tracker.min_template_isotropy) {
+      ++report_.edge_corners;
+      continue;
+    }
     const int slot = est.initialize_landmark(c.x, c.y);
     if (slot < 0 || slot >= hal::kMaxLandmarks) {
       continue;
@@ -310,12 +393,16 @@ void FramePipeline::do_initialize(LandmarkEstimator& est) {
       patches_.clear(slot);
       continue;
     }
+    Eigen::Vector3d camera;
+    if (est.camera_position(camera)) {
+      patches_.set_anchor(slot, camera);
+    }
     // A reused slot (the estimator replaced a landmark) starts afresh.
     book_.activate(slot);
     at(new_landmarks_, new_count_++) = {slot, c.x, c.y};
     ++report_.initialized;
   }
-  if (cursor_ >= new_corner_count_) {
+  if (cursor_ >= new_corner_count_ || new_count_ >= new_wanted_) {
     stage_ = FrameStage::kDone;
   }
 }

@@ -20,6 +20,8 @@ void LandmarkBook::activate(int slot) {
     ++active_count_;
   }
   failures_[s] = 0;
+  matches_[s] = 0;
+  last_match_[s] = frame_;
 }
 
 void LandmarkBook::remove(int slot) {
@@ -32,6 +34,7 @@ void LandmarkBook::remove(int slot) {
     --active_count_;
   }
   failures_[s] = 0;
+  matches_[s] = 0;
 }
 
 bool LandmarkBook::active(int slot) const {
@@ -45,6 +48,10 @@ bool LandmarkBook::record(int slot, bool matched) {
   const auto s = static_cast<std::size_t>(slot);
   if (matched) {
     failures_[s] = 0;
+    if (matches_[s] < UINT16_MAX) {
+      ++matches_[s];
+    }
+    last_match_[s] = frame_;
     return false;
   }
   if (failures_[s] < UINT16_MAX) {
@@ -55,6 +62,15 @@ bool LandmarkBook::record(int slot, bool matched) {
 
 int LandmarkBook::failures(int slot) const {
   return in_range(slot) ? failures_[static_cast<std::size_t>(slot)] : 0;
+}
+
+int LandmarkBook::frames_since_match(int slot) const {
+  return in_range(slot) ? static_cast<int>(frame_ - last_match_[static_cast<std::size_t>(slot)])
+                        : 0;
+}
+
+int LandmarkBook::matches(int slot) const {
+  return in_range(slot) ? matches_[static_cast<std::size_t>(slot)] : 0;
 }
 
 int select_new_corners(const Corner* corners, int corner_count, const double* occupied_u,

@@ -58,6 +58,7 @@ bool capture_patch(const hal::GrayImageView& image, double u_px, double v_px, do
     }
   }
   out.first_depth_m = depth_m;
+  out.has_anchor = false;
   out.valid = true;
   return true;
 }
@@ -151,6 +152,8 @@ bool make_template(const LandmarkPatch& patch, double scale, float min_std_gray,
   if (!(ss > min_ss) || !(det > 1e-3F * tr * tr)) {
     return false;
   }
+  const float disc = std::sqrt(std::max(0.0F, tr * tr - 4.0F * det));
+  out.isotropy = (tr - disc) / (tr + disc);
   out.h_inv_xx = hyy / det;
   out.h_inv_xy = -hxy / det;
   out.h_inv_yy = hxx / det;
@@ -173,6 +176,14 @@ bool PatchStore::capture(int slot, const hal::GrayImageView& image, double u_px,
 void PatchStore::clear(int slot) {
   if (slot >= 0 && slot < hal::kMaxLandmarks) {
     (*patches_)[static_cast<std::size_t>(slot)].valid = false;
+  }
+}
+
+void PatchStore::set_anchor(int slot, const Eigen::Vector3d& camera_position) {
+  if (slot >= 0 && slot < hal::kMaxLandmarks && camera_position.allFinite()) {
+    LandmarkPatch& p = (*patches_)[static_cast<std::size_t>(slot)];
+    p.anchor = {camera_position.x(), camera_position.y(), camera_position.z()};
+    p.has_anchor = p.valid;
   }
 }
 

@@ -66,6 +66,20 @@ bool window_sums(const hal::GrayImageView& image, const PatchTemplate& tmpl, dou
   return true;
 }
 
+// NCC between the template and the window centred on (u, v); 0 where no window fits or it is
+// flat.
+float window_ncc(const hal::GrayImageView& image, const PatchTemplate& tmpl, double u, double v) {
+  WindowSums ws;
+  if (!window_sums(image, tmpl, u, v, ws)) {
+    return 0.0F;
+  }
+  const float ss = ws.s2 - ws.s1 * ws.s1 / static_cast<float>(kN);
+  if (!(ss > 0.0F)) {
+    return 0.0F;
+  }
+  return (ws.swt - ws.s1 / static_cast<float>(kN) * tmpl.sum_t) / std::sqrt(ss * tmpl.sum_sq);
+}
+
 }  // namespace
 
 Refinement Tracker::refine(const hal::GrayImageView& image, const PatchTemplate& tmpl, double u_px,
@@ -133,109 +147,167 @@ Refinement Tracker::refine(const hal::GrayImageView& image, const PatchTemplate&
 }
 
 TrackResult Tracker::track(const hal::GrayImageView& image, const PatchTemplate& tmpl,
-                           const SearchRegion& region, const Corner* corners,
-                           int corner_count) const {
+                           const SearchRegion& region, const Corner* corners, int corner_count,
+                           bool reacquire) const {
   TrackResult result;
   if (!region.valid) {
     result.failure = TrackFailure::kNoRegion;
     return result;
   }
-  if (!tmpl.valid) {
+  if (!tmpl.valid || tmpl.isotropy < config_.min_template_isotropy) {
     result.failure = TrackFailure::kNoTemplate;
     return result;
   }
+  // Where look-alikes are looked for: the region's box, for a reacquisition at least
+  // reacquire_box_px around the prediction.
+  const double grow = reacquire ? static_cast<double>(config_.reacquire_box_px) : 0.0;
+  const double bx0 = std::min(region.x_min, region.center.x() - grow);
+  const double bx1 = std::max(region.x_max, region.center.x() + grow);
+  const double by0 = std::min(region.y_min, region.center.y() - grow);
+  const double by1 = std::max(region.y_max, region.center.y() + grow);
+  const auto in_box = [&](double x, double y) {
+    return x >= bx0 && x <= bx1 && y >= by0 && y <= by1;
+  };
+  const float min_ncc = reacquire ? config_.reacquire_min_ncc : config_.min_ncc;
   // Start points: the prediction (clamped into the searchable box), then the corners inside the
-  // gate nearest to it.
+  // gate whose window already resembles the template most (NCC at the corner, one pass each;
+  // among the nearest kMaxCandidates when the gate holds more).
+  constexpr int kMaxCandidates = 32;
+  std::array<double, kMaxCandidates> cu{};
+  std::array<double, kMaxCandidates> cv{};
+  std::array<double, kMaxCandidates> cm{};
+  int nc = 0;
+  for (int i = 0; i < corner_count; ++i) {
+    const double x = corners[i].x;
+    const double y = corners[i].y;
+    if (!in_box(x, y)) {
+      continue;
+    }
+    // Corners of the box outside the gate are candidates too: not to be accepted, but a
+    // look-alike there makes the match ambiguous.
+    const double m2 = region.mahalanobis2(x, y);
+    int pos = nc;
+    if (nc == kMaxCandidates) {
+      if (m2 >= cm[kMaxCandidates - 1]) {
+        continue;
+      }
+      pos = nc - 1;
+    } else {
+      ++nc;
+    }
+    for (; pos > 0 && cm[static_cast<std::size_t>(pos - 1)] > m2; --pos) {
+      cu[static_cast<std::size_t>(pos)] = cu[static_cast<std::size_t>(pos - 1)];
+      cv[static_cast<std::size_t>(pos)] = cv[static_cast<std::size_t>(pos - 1)];
+      cm[static_cast<std::size_t>(pos)] = cm[static_cast<std::size_t>(pos - 1)];
+    }
+    cu[static_cast<std::size_t>(pos)] = x;
+    cv[static_cast<std::size_t>(pos)] = y;
+    cm[static_cast<std::size_t>(pos)] = m2;
+  }
   constexpr int kMaxStarts = 16;
   std::array<double, kMaxStarts> su{};
   std::array<double, kMaxStarts> sv{};
-  std::array<double, kMaxStarts> sd{};
-  int n = 0;
+  std::array<float, kMaxStarts> sn{};
   su[0] = std::clamp(region.center.x(), region.x_min, region.x_max);
   sv[0] = std::clamp(region.center.y(), region.y_min, region.y_max);
-  sd[0] = -1.0;
-  n = 1;
+  int n = 1;
   const int max_starts = std::clamp(config_.max_corner_starts + 1, 1, kMaxStarts);
-  for (int i = 0; i < corner_count; ++i) {
-    const double cu = static_cast<double>(corners[i].x);
-    const double cv = static_cast<double>(corners[i].y);
-    if (!region.in_box(cu, cv)) {
+  for (int i = 0; i < nc; ++i) {
+    const float ncc =
+        window_ncc(image, tmpl, cu[static_cast<std::size_t>(i)], cv[static_cast<std::size_t>(i)]);
+    if (!(ncc > config_.min_start_ncc)) {
       continue;
     }
-    const double m2 = region.mahalanobis2(cu, cv);
-    if (m2 > region.gate_chi2) {
-      continue;
-    }
-    // Keep the nearest corners, sorted by insertion.
+    // Keep the most similar, sorted by insertion (ties: the nearer, listed first).
     int pos = n;
     if (n == max_starts) {
-      if (m2 >= sd[static_cast<std::size_t>(n - 1)]) {
+      if (ncc <= sn[static_cast<std::size_t>(n - 1)]) {
         continue;
       }
       pos = n - 1;
     } else {
       ++n;
     }
-    while (pos > 1 && sd[static_cast<std::size_t>(pos - 1)] > m2) {
+    for (; pos > 1 && sn[static_cast<std::size_t>(pos - 1)] < ncc; --pos) {
       su[static_cast<std::size_t>(pos)] = su[static_cast<std::size_t>(pos - 1)];
       sv[static_cast<std::size_t>(pos)] = sv[static_cast<std::size_t>(pos - 1)];
-      sd[static_cast<std::size_t>(pos)] = sd[static_cast<std::size_t>(pos - 1)];
-      --pos;
+      sn[static_cast<std::size_t>(pos)] = sn[static_cast<std::size_t>(pos - 1)];
     }
-    su[static_cast<std::size_t>(pos)] = cu;
-    sv[static_cast<std::size_t>(pos)] = cv;
-    sd[static_cast<std::size_t>(pos)] = m2;
+    su[static_cast<std::size_t>(pos)] = cu[static_cast<std::size_t>(i)];
+    sv[static_cast<std::size_t>(pos)] = cv[static_cast<std::size_t>(i)];
+    sn[static_cast<std::size_t>(pos)] = ncc;
   }
 
-  bool any = false;
-  Refinement best;
-  double best_m2 = 0.0;
-  std::array<double, kMaxStarts> done_u{};
-  std::array<double, kMaxStarts> done_v{};
-  int done = 0;
+  // Every converged run inside the gate is a candidate.
+  std::array<Refinement, kMaxStarts> cand{};
+  std::array<double, kMaxStarts> cand_m2{};
+  int ncand = 0;
   for (int i = 0; i < n; ++i) {
     const double u0 = su[static_cast<std::size_t>(i)];
     const double v0 = sv[static_cast<std::size_t>(i)];
     // A start next to a point a previous run converged to would converge there again.
     bool repeat = false;
-    for (int j = 0; j < done && !repeat; ++j) {
-      const double du = done_u[static_cast<std::size_t>(j)] - u0;
-      const double dv = done_v[static_cast<std::size_t>(j)] - v0;
+    for (int j = 0; j < ncand && !repeat; ++j) {
+      const double du = cand[static_cast<std::size_t>(j)].u_px - u0;
+      const double dv = cand[static_cast<std::size_t>(j)].v_px - v0;
       repeat = du * du + dv * dv < 0.5;
     }
     if (repeat) {
       continue;
     }
     const Refinement r = refine(image, tmpl, u0, v0);
-    if (r.converged) {
-      done_u[static_cast<std::size_t>(done)] = r.u_px;
-      done_v[static_cast<std::size_t>(done)] = r.v_px;
-      ++done;
-    }
     ++result.starts_tried;
     result.iterations += r.iterations;
-    if (!r.converged || !region.contains(r.u_px, r.v_px)) {
+    if (!r.converged || !in_box(r.u_px, r.v_px)) {
       continue;
     }
-    const double m2 = region.mahalanobis2(r.u_px, r.v_px);
-    const bool better = !any || r.ncc > best.ncc + config_.ncc_tie ||
-                        (r.ncc > best.ncc - config_.ncc_tie && m2 < best_m2);
-    if (better) {
-      best = r;
-      best_m2 = m2;
-      any = true;
+    cand[static_cast<std::size_t>(ncand)] = r;
+    cand_m2[static_cast<std::size_t>(ncand)] = region.mahalanobis2(r.u_px, r.v_px);
+    ++ncand;
+  }
+  // The best inside the gate.
+  int best = -1;
+  for (int i = 0; i < ncand; ++i) {
+    if (cand_m2[static_cast<std::size_t>(i)] > region.gate_chi2 ||
+        !region.in_box(cand[static_cast<std::size_t>(i)].u_px,
+                       cand[static_cast<std::size_t>(i)].v_px)) {
+      continue;
+    }
+    if (best < 0) {
+      best = i;
+      continue;
+    }
+    const float ni = cand[static_cast<std::size_t>(i)].ncc;
+    const float nb = cand[static_cast<std::size_t>(best)].ncc;
+    if (ni > nb + config_.ncc_tie ||
+        (ni > nb - config_.ncc_tie &&
+         cand_m2[static_cast<std::size_t>(i)] < cand_m2[static_cast<std::size_t>(best)])) {
+      best = i;
     }
   }
-  if (!any) {
+  if (best < 0) {
     result.failure = TrackFailure::kNoConvergence;
     return result;
   }
-  result.u_px = best.u_px;
-  result.v_px = best.v_px;
-  result.ncc = best.ncc;
-  if (best.ncc < config_.min_ncc) {
+  const Refinement& b = cand[static_cast<std::size_t>(best)];
+  result.u_px = b.u_px;
+  result.v_px = b.v_px;
+  result.ncc = b.ncc;
+  if (b.ncc < min_ncc) {
     result.failure = TrackFailure::kLowNcc;
     return result;
+  }
+  // Repetitive texture: another place in the search box that matches about as well.
+  const double distinct2 =
+      static_cast<double>(config_.distinct_px) * static_cast<double>(config_.distinct_px);
+  for (int i = 0; i < ncand; ++i) {
+    const Refinement& c = cand[static_cast<std::size_t>(i)];
+    const double du = c.u_px - b.u_px;
+    const double dv = c.v_px - b.v_px;
+    if (du * du + dv * dv > distinct2 && c.ncc > b.ncc - config_.ambiguity_ncc) {
+      result.failure = TrackFailure::kAmbiguous;
+      return result;
+    }
   }
   result.found = true;
   return result;

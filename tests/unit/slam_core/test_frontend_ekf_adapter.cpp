@@ -104,3 +104,36 @@ TEST(FrontendEkfAdapter, RejectsMoreObservationsThanAFrameHolds) {
   EXPECT_EQ(adapter.update(obs, -1), 0);
   EXPECT_EQ(ekf.last_count, -1);
 }
+
+namespace {
+
+// An estimator that also has the position API (camera_pose, landmark, slot_used).
+struct MockEkfWithPositions : MockEkf {
+  Eigen::Matrix<double, 6, 1> camera_pose() const {
+    Eigen::Matrix<double, 6, 1> p;
+    p << 1.0, 2.0, 0.1, 0.0, 0.0, 0.5;
+    return p;
+  }
+  bool slot_used(int slot) const { return slot == 3; }
+  Eigen::Vector3d landmark(int slot) const {
+    return Eigen::Vector3d(4.0, 2.0, static_cast<double>(slot));
+  }
+};
+
+}  // namespace
+
+TEST(FrontendEkfAdapter, PositionsOnlyWhenTheEstimatorHasThem) {
+  MockEkf plain;
+  fe::EkfAdapter<MockEkf, MockObservation, MockPrediction> a(plain);
+  Eigen::Vector3d out(9.0, 9.0, 9.0);
+  EXPECT_FALSE(a.camera_position(out));
+  EXPECT_FALSE(a.landmark_position(3, out));
+
+  MockEkfWithPositions full;
+  fe::EkfAdapter<MockEkfWithPositions, MockObservation, MockPrediction> b(full);
+  ASSERT_TRUE(b.camera_position(out));
+  EXPECT_EQ(out, Eigen::Vector3d(1.0, 2.0, 0.1));
+  ASSERT_TRUE(b.landmark_position(3, out));
+  EXPECT_EQ(out, Eigen::Vector3d(4.0, 2.0, 3.0));
+  EXPECT_FALSE(b.landmark_position(5, out));  // unused slot
+}

@@ -258,6 +258,8 @@ TEST(FrontendJcbb, RepeatedPatternWrongMatchIsRemoved) {
   det.detect(cur.view(), 320, 240);
   fe::TrackerConfig tcfg;
   tcfg.max_corner_starts = 8;
+  // The tracker's own refusal of look-alikes off: this is about JCBB removing what gets through.
+  tcfg.ambiguity_ncc = -2.0F;
   const fe::Tracker tracker(tcfg);
   const double sigma_common = 8.0;
   const double sigma_pixel = 1.0;

@@ -273,3 +273,88 @@ TEST(FrontendTracker, CornerStartsReachBeyondTheLucasKanadeBasin) {
   EXPECT_GE(o.tracked, o.total - 1);
   EXPECT_LT(o.max_error, 0.15);
 }
+
+namespace {
+
+// A dark square with a bright dot in one corner on mid-gray, centred on (cx, cy): a corner with
+// an isotropic template.
+void draw_mark(GrayImage& img, int cx, int cy) {
+  for (int y = cy - 4; y <= cy + 4; ++y) {
+    for (int x = cx - 4; x <= cx + 4; ++x) {
+      img.at(x, y) = 40;
+    }
+  }
+  for (int y = cy - 4; y <= cy - 2; ++y) {
+    for (int x = cx - 4; x <= cx - 2; ++x) {
+      img.at(x, y) = 230;
+    }
+  }
+}
+
+}  // namespace
+
+TEST(FrontendTracker, RepeatedPatternInTheRegionIsAmbiguous) {
+  // The landmark is the strongest corner of a mark; the frames hold shifted copies of the mark.
+  GrayImage ref(320, 240, 128);
+  draw_mark(ref, 160, 120);
+  fe::HarrisDetector det;
+  det.detect(ref.view(), 320, 240);
+  ASSERT_GT(det.corner_count(), 0);
+  const double cx = det.corners()[0].x;
+  const double cy = det.corners()[0].y;
+  fe::LandmarkPatch patch;
+  ASSERT_TRUE(fe::capture_patch(ref.view(), cx, cy, 2.0, patch));
+  fe::PatchTemplate tmpl;
+  ASSERT_TRUE(fe::make_template(patch, 1.0, 3.0F, tmpl));
+  const fe::Tracker tracker;
+  const auto track = [&](const GrayImage& img, double sigma, bool reacquire) {
+    det.detect(img.view(), 320, 240);
+    const fe::SearchRegion region =
+        fe::make_search_region(predict(cx + 2.0, cy, sigma, 2.0), 320, 240);
+    return tracker.track(img.view(), tmpl, region, det.corners(), det.corner_count(), reacquire);
+  };
+  // One copy, moved by (3, 1): found there.
+  GrayImage one(320, 240, 128);
+  draw_mark(one, 163, 121);
+  const fe::TrackResult r1 = track(one, 6.0, false);
+  ASSERT_TRUE(r1.found);
+  EXPECT_NEAR(r1.u_px, cx + 3.0, 0.1);
+  EXPECT_NEAR(r1.v_px, cy + 1.0, 0.1);
+  // A second identical copy 14 px to the left, inside the region: refused, not a coin toss.
+  GrayImage two = one;
+  draw_mark(two, 149, 121);
+  const fe::TrackResult r2 = track(two, 6.0, false);
+  EXPECT_FALSE(r2.found);
+  EXPECT_EQ(r2.failure, fe::TrackFailure::kAmbiguous);
+  // A copy 24 px below: outside a narrow region's box it is not looked at...
+  GrayImage far = one;
+  draw_mark(far, 163, 145);
+  EXPECT_TRUE(track(far, 2.0, false).found);
+  // ...but a landmark reacquired after a while is checked at least 30 px around.
+  const fe::TrackResult r4 = track(far, 2.0, true);
+  EXPECT_FALSE(r4.found);
+  EXPECT_EQ(r4.failure, fe::TrackFailure::kAmbiguous);
+}
+
+TEST(FrontendPatch, IsotropySeparatesCornersFromEdges) {
+  GrayImage corner(320, 240, 128);
+  draw_mark(corner, 160, 120);
+  GrayImage edge(320, 240, 60);
+  for (int y = 0; y < 240; ++y) {
+    for (int x = 160; x < 320; ++x) {
+      edge.at(x, y) = 200;
+    }
+  }
+  fe::LandmarkPatch pc;
+  fe::LandmarkPatch pe;
+  ASSERT_TRUE(fe::capture_patch(corner.view(), 160, 120, 2.0, pc));
+  ASSERT_TRUE(fe::capture_patch(edge.view(), 160.3, 120, 2.0, pe));
+  fe::PatchTemplate tc;
+  fe::PatchTemplate te;
+  ASSERT_TRUE(fe::make_template(pc, 1.0, 3.0F, tc));
+  EXPECT_GT(tc.isotropy, 0.5F);
+  // A straight edge has no gradient along it: singular, or an isotropy far below the tracker's.
+  if (fe::make_template(pe, 1.0, 3.0F, te)) {
+    EXPECT_LT(te.isotropy, 0.05F);
+  }
+}

@@ -10,7 +10,8 @@
 
 // The rendered camera mode: ray casting of the room (walls, floor, ceiling, furniture boxes) with
 // procedural corner-rich textures, simple shading, exposure gain, a little blur and pixel noise,
-// into 8-bit gray images of the calibrated size. One ray per pixel through the (distorted) pinhole.
+// into 8-bit gray images of the calibrated size. Four rays per pixel through the (distorted)
+// pinhole, averaged (the pixel's area).
 namespace cleanslam::sim_hal::sim {
 
 class Renderer {
@@ -26,6 +27,16 @@ class Renderer {
   [[nodiscard]] double albedo(int surface, double a, double b) const;
   // The surface seen by pixel (x, y), or -1.
   [[nodiscard]] int surface_at(const Pose3& world_camera, int x, int y) const;
+
+  // What the ray through the sub-pixel position (u, v) (origin at the centre of the top-left
+  // pixel, as the calibration's cx, cy) hits: the world point and its surface (-1: nothing).
+  // Ground truth for the front end's diagnostics; not used while rendering.
+  struct SurfacePoint {
+    int surface = -1;
+    Vec3 point;
+    double distance = 0.0;
+  };
+  [[nodiscard]] SurfacePoint point_at(const Pose3& world_camera, double u, double v) const;
 
  private:
   struct Hit {
@@ -43,7 +54,12 @@ class Renderer {
   std::uint64_t seed_;
   double noise_sigma_;
   double blur_;
-  std::vector<Vec3> rays_;  // unit ray of each pixel in the camera frame
+  static constexpr std::size_t kSamples = 4;
+  // Sample positions inside a pixel relative to its centre (rotated grid).
+  static constexpr double kSampleOffsets[kSamples][2] = {
+      {-0.375, -0.125}, {0.125, -0.375}, {0.375, 0.125}, {-0.125, 0.375}};
+  std::vector<Vec3> rays_;         // unit ray through each pixel's centre in the camera frame
+  std::vector<Vec3> sample_rays_;  // kSamples unit rays per pixel
   std::vector<float> radiance_;
   std::vector<float> scratch_;
 };

@@ -19,6 +19,9 @@ namespace cleanslam::slam_core::frontend {
 // and, when the estimator bounds its work per update call (optional: without them every update
 // completes at once):
 //   bool update_pending() const; bool continue_update(); const Status& last_update() const
+// and, when the estimator has them (used for the patch scale, optional):
+//   Vector6d camera_pose() const   (position first)
+//   Eigen::Vector3d landmark(int slot) const   bool slot_used(int slot) const
 // with Observation {int slot; double u_px; double v_px;}. For the project's EKF:
 //   EkfAdapter<Ekf, Observation, PixelPrediction>.
 template <class Estimator, class Observation, class Prediction>
@@ -57,6 +60,28 @@ class EkfAdapter final : public LandmarkEstimator {
       return 0;
     }
     return estimator_.update(buffer_.data(), count).fused;
+  }
+  bool camera_position(Eigen::Vector3d& out) override {
+    if constexpr (requires(const Estimator& e) { e.camera_pose().template head<3>(); }) {
+      out = estimator_.camera_pose().template head<3>();
+      return out.allFinite();
+    } else {
+      return false;
+    }
+  }
+  bool landmark_position(int slot, Eigen::Vector3d& out) override {
+    if constexpr (requires(const Estimator& e) {
+                    e.landmark(0);
+                    e.slot_used(0);
+                  }) {
+      if (!estimator_.slot_used(slot)) {
+        return false;
+      }
+      out = estimator_.landmark(slot);
+      return out.allFinite();
+    } else {
+      return false;
+    }
   }
 
   [[nodiscard]] bool update_pending() const override {

@@ -27,6 +27,22 @@ struct FramePipelineConfig {
   LandmarkBookConfig book;
   // Two landmarks matched closer than this keep only the better match.
   double duplicate_px = 3.0;
+  // A landmark is searched only while its view is like the first sighting's (Davison's
+  // "predicted to be measurable"): its distance within a factor max_view_scale of the first one,
+  // and the angle between the two viewing rays with a cosine of at least min_view_cos. Otherwise
+  // its patch would not match, and a miss would be held against it, deleting the landmark before
+  // the robot comes back to where it can be found again (loop closure).
+  double max_view_scale = 1.8;
+  double min_view_cos = 0.82;  // 35 degrees
+  // New landmarks are taken only above this fraction of the image height. The default suits a
+  // camera close to the floor looking ahead: below, the floor is seen at grazing angles (its
+  // patches deform with every move) and its junction with walls and furniture makes corners that
+  // slide along it (occlusion boundaries). 1: the whole image.
+  double new_landmark_max_row_fraction = 0.7;
+  // A landmark not matched for more frames than this is reacquired (Tracker::track): the pose
+  // may have drifted more than its covariance says, and a look-alike near the prediction must
+  // not close the loop.
+  int reacquire_after_frames = 10;
   // Bounded work per step().
   int detect_rows_per_step = 60;
   int predictions_per_step = 16;
@@ -53,12 +69,17 @@ struct TrackRecord {
   int slot = -1;
   SearchRegion region;
   double predicted_depth_m = 0.0;
+  // The landmark's position estimate and its distance from the camera (for the patch scale).
+  Eigen::Vector3d landmark = Eigen::Vector3d::Zero();
+  double distance_m = 0.0;
+  bool has_distance = false;
   TrackResult result;
   bool inlier = false;
   // The predicted pixel itself is inside the searchable image; a landmark predicted beyond the
   // border is still searched where its region overlaps the image, but a miss is not held
   // against it (it may simply have left the view).
   bool center_inside = false;
+  int priority = 0;  // who keeps a track when there are more candidates than tracks
 };
 
 struct FrameReport {
@@ -66,8 +87,9 @@ struct FrameReport {
   bool featureless = false;  // no corner: nothing tracked, nothing counted against landmarks
   int corners = 0;
   int predicted = 0;
-  int in_view = 0;   // predicted inside the searchable image
-  int searched = 0;  // regions searched (in view, and those overlapping the border)
+  int in_view = 0;      // predicted inside the searchable image
+  int unmatchable = 0;  // predicted, but seen too differently from the first sighting
+  int searched = 0;     // regions searched (in view, and those overlapping the border)
   int tracked = 0;
   int duplicates = 0;
   int inliers = 0;
@@ -77,6 +99,7 @@ struct FrameReport {
   int fused = 0;
   int deleted = 0;
   int initialized = 0;
+  int edge_corners = 0;  // corners not taken as landmarks: their patch is an edge
   int steps = 0;
   JcbbResult jcbb;
 };
@@ -122,11 +145,15 @@ class FramePipeline {
   void do_detect();
   void do_predict(LandmarkEstimator& est);
   void do_track();
+  [[nodiscard]] bool matchable(int slot, const Eigen::Vector3d& landmark) const;
+  [[nodiscard]] double patch_scale(const LandmarkPatch& patch, const TrackRecord& t) const;
   void do_associate(LandmarkEstimator& est);
   void do_update(LandmarkEstimator& est);
   void do_fuse(LandmarkEstimator& est);
   void do_manage(LandmarkEstimator& est);
   void do_initialize(LandmarkEstimator& est);
+  void remove_landmark(LandmarkEstimator& est, int slot);
+  [[nodiscard]] int new_landmark_rows() const;
 
   FramePipelineConfig config_;
   HarrisDetector detector_;
@@ -140,6 +167,8 @@ class FramePipeline {
   FrameStage stage_ = FrameStage::kIdle;
   FrameReport report_;
   int cursor_ = 0;
+  Eigen::Vector3d camera_ = Eigen::Vector3d::Zero();  // camera position estimate this frame
+  bool camera_known_ = false;
 
   static constexpr int kMaxTracks = hal::kMaxObservationsPerFrame;
   std::array<TrackRecord, kMaxTracks> tracks_{};
@@ -155,9 +184,14 @@ class FramePipeline {
   std::array<double, 2 * kMaxTracks> nu_{};
   std::array<double, 4 * kMaxTracks * kMaxTracks> S_{};
   std::array<bool, kMaxTracks> inlier_{};
+  std::array<bool, hal::kMaxLandmarks> matched_now_{};
 
   std::array<int, hal::kMaxCorners> new_corners_{};
   int new_corner_count_ = 0;
+  int new_wanted_ = 0;
+  // A candidate's patch and template, checked before it becomes a landmark.
+  LandmarkPatch candidate_patch_;
+  PatchTemplate candidate_template_;
   std::array<PixelObservation, hal::kMaxCorners> new_landmarks_{};
   int new_count_ = 0;
 };

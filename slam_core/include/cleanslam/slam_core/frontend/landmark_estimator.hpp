@@ -1,5 +1,7 @@
 #pragma once
 
+#include <Eigen/Core>
+
 #include "cleanslam/slam_core/frontend/search_region.hpp"
 
 namespace cleanslam::slam_core::frontend {
@@ -35,6 +37,11 @@ class LandmarkEstimator {
     fused = 0;
     return true;
   }
+  // Position estimates in the world of the camera and of a landmark, for the patch scale (the
+  // landmark's distance now and from where it was first seen); false when not available, and the
+  // scale then falls back to the predicted depths.
+  virtual bool camera_position(Eigen::Vector3d& /*out*/) { return false; }
+  virtual bool landmark_position(int /*slot*/, Eigen::Vector3d& /*out*/) { return false; }
 };
 
 }  // namespace cleanslam::slam_core::frontend

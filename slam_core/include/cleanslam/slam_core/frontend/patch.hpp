@@ -3,6 +3,8 @@
 #include <array>
 #include <memory>
 
+#include <Eigen/Core>
+
 #include "cleanslam/hal/capacities.hpp"
 #include "cleanslam/hal/image.hpp"
 
@@ -24,6 +26,11 @@ inline constexpr double kMaxPatchScale = 3.0;
 struct LandmarkPatch {
   std::array<float, kStoredPatchSize * kStoredPatchSize> pixels{};
   double first_depth_m = 0.0;
+  // Where the camera was at the first sighting (when the estimator tells): the scale is then the
+  // landmark's current distance estimate from there over its distance from the camera now, which
+  // stays right as the landmark's depth converges (the depth assumed at initialization does not).
+  std::array<double, 3> anchor{};
+  bool has_anchor = false;
   bool valid = false;
 };
 
@@ -54,6 +61,9 @@ struct PatchTemplate {
   float h_inv_xx = 0.0F;
   float h_inv_xy = 0.0F;
   float h_inv_yy = 0.0F;
+  // Smaller over larger eigenvalue of the Hessian: near 0 for an edge (the aperture problem: the
+  // match slides along it), 1 for an isotropic corner.
+  float isotropy = 0.0F;
   double scale = 1.0;
   bool valid = false;
 };
@@ -75,6 +85,8 @@ class PatchStore {
   // False for a slot out of range or a window that does not fit (the slot is then cleared).
   bool capture(int slot, const hal::GrayImageView& image, double u_px, double v_px, double depth_m);
   void clear(int slot);
+  // Records the camera position of the slot's first sighting (LandmarkPatch::anchor).
+  void set_anchor(int slot, const Eigen::Vector3d& camera_position);
   // Null for a slot out of range or without a patch.
   [[nodiscard]] const LandmarkPatch* get(int slot) const;
 
