@@ -15,8 +15,8 @@ namespace {
 
 constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
 
-struct Run {
-  explicit Run(bool reinit) : estimator(config(reinit)) { estimator.reset(0); }
+struct FeatureRun {
+  explicit FeatureRun(bool reinit) : estimator(config(reinit)) { estimator.reset(0); }
 
   static firmware::FirmwareConfig config(bool reinit) {
     firmware::FirmwareConfig c;
@@ -71,7 +71,7 @@ struct Run {
 
 TEST(SlamEstimatorReinit, ALandmarkLeftBehindTheCameraStartsAgainFromTheNewRay) {
   for (const bool reinit : {false, true}) {
-    Run run(reinit);
+    FeatureRun run(reinit);
     int slot = -1;
     // 24 degrees left of the optical axis, at the assumed depth of 5 m.
     ASSERT_EQ(run.frame(100 * kMs, 60.0, 119.5, slot), lf::UpdateStatus::kInitialized);

@@ -36,7 +36,7 @@ struct FilterSettings {
   bool gyro_bias_state = false;
   double gyro_bias_walk = 0.0;  // rad/s/sqrt(s)
   // Heading held while the wheels stand still (slam_core::DeadReckoningConfig).
-  bool hold_heading_when_still = false;
+  bool hold_heading_when_still = true;
   // A tracked feature whose landmark is predicted behind the camera re-initializes the landmark.
   bool reinit_behind_camera = false;
 };
