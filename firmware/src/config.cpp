@@ -125,6 +125,7 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.consider_young_landmarks = f.flag("consider_young_landmarks", x.consider_young_landmarks);
     x.young_depth_std_fraction =
         f.number("young_depth_std_fraction", x.young_depth_std_fraction, 0.0, 10.0, true);
+    x.young_depth_given_pose = f.flag("young_depth_given_pose", x.young_depth_given_pose);
     x.depth_bounds = f.flag("depth_bounds", x.depth_bounds);
     x.max_depth_m = f.number("max_depth_m", x.max_depth_m, 0.0, 1e4);
     x.gyro_bias_correlation_time_s =
@@ -132,6 +133,10 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.distance_scale_correlation_m =
         f.number("distance_scale_correlation_m", x.distance_scale_correlation_m, 0.0, 1e5);
     x.gyro_scale_error = f.number("gyro_scale_error", x.gyro_scale_error, 0.0, 1.0);
+    x.gyro_bias_state = f.flag("gyro_bias_state", x.gyro_bias_state);
+    x.gyro_bias_walk = f.number("gyro_bias_walk", x.gyro_bias_walk, 0.0, 1.0);
+    x.hold_heading_when_still = f.flag("hold_heading_when_still", x.hold_heading_when_still);
+    x.reinit_behind_camera = f.flag("reinit_behind_camera", x.reinit_behind_camera);
     f.done();
   }
   {
@@ -342,11 +347,16 @@ std::string config_text(const FirmwareConfig& c) {
     << "  encoder_yaw_noise_rad_per_sqrt_m: " << fmt(f.encoder_yaw_noise_rad_per_sqrt_m) << "\n"
     << "  consider_young_landmarks: " << (f.consider_young_landmarks ? "true" : "false") << "\n"
     << "  young_depth_std_fraction: " << fmt(f.young_depth_std_fraction) << "\n"
+    << "  young_depth_given_pose: " << (f.young_depth_given_pose ? "true" : "false") << "\n"
     << "  depth_bounds: " << (f.depth_bounds ? "true" : "false") << "\n"
     << "  max_depth_m: " << fmt(f.max_depth_m) << "\n"
     << "  gyro_bias_correlation_time_s: " << fmt(f.gyro_bias_correlation_time_s) << "\n"
     << "  distance_scale_correlation_m: " << fmt(f.distance_scale_correlation_m) << "\n"
-    << "  gyro_scale_error: " << fmt(f.gyro_scale_error) << "\n";
+    << "  gyro_scale_error: " << fmt(f.gyro_scale_error) << "\n"
+    << "  gyro_bias_state: " << (f.gyro_bias_state ? "true" : "false") << "\n"
+    << "  gyro_bias_walk: " << fmt(f.gyro_bias_walk) << "\n"
+    << "  hold_heading_when_still: " << (f.hold_heading_when_still ? "true" : "false") << "\n"
+    << "  reinit_behind_camera: " << (f.reinit_behind_camera ? "true" : "false") << "\n";
   s << "frontend:\n"
     << "  min_inliers: " << c.frontend.min_inliers << "\n"
     << "  features_min_inliers: " << c.frontend.features_min_inliers << "\n"

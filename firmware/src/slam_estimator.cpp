@@ -22,8 +22,11 @@ slam_core::EkfConfig ekf_config(const FirmwareConfig& c) {
   e.max_landmarks = c.filter.max_landmarks;
   e.consider_young_landmarks = c.filter.consider_young_landmarks;
   e.young_depth_std_fraction = c.filter.young_depth_std_fraction;
+  e.young_depth_given_pose = c.filter.young_depth_given_pose;
   e.depth_bounds = c.filter.depth_bounds;
   e.max_depth_m = c.filter.max_depth_m;
+  e.gyro_bias_state = c.filter.gyro_bias_state;
+  e.gyro_bias_walk = c.filter.gyro_bias_walk;
   return e;
 }
 
@@ -36,6 +39,8 @@ slam_core::DeadReckoningConfig dead_reckoning_config(const FirmwareConfig& c) {
   d.gyro_bias_correlation_time_s = c.filter.gyro_bias_correlation_time_s;
   d.distance_scale_correlation_m = c.filter.distance_scale_correlation_m;
   d.gyro_scale_error = c.filter.gyro_scale_error;
+  d.bias_in_state = c.filter.gyro_bias_state;
+  d.hold_heading_when_still = c.filter.hold_heading_when_still;
   return d;
 }
 
@@ -204,6 +209,14 @@ bool SlamEstimator::associate_features() {
       continue;
     }
     slam_core::PixelPrediction pp;
+    if (m < kMaxObs && config_.filter.reinit_behind_camera &&
+        !(ekf_.predict_pixel(slot, pp) && pp.in_front)) {
+      // Seen, so in front: the landmark's estimate is wrong, a new one starts from this ray.
+      ekf_.delete_landmark(slot);
+      slot_owner_[static_cast<std::size_t>(slot)] = -1;
+      new_feature_[static_cast<std::size_t>(fresh++)] = i;
+      continue;
+    }
     if (m >= kMaxObs || !ekf_.predict_pixel(slot, pp) || !pp.in_front) {
       record(f, lf::UpdateStatus::kRejected, slot);
       continue;

@@ -42,7 +42,12 @@ DeadReckoner::DeadReckoner(const hal::Calibration& calibration, const DeadReckon
   t_body_c_ = camera.t_body_c();
 }
 
-bool DeadReckoner::gyro_angle(hal::TimeNs t, double& theta) const {
+bool DeadReckoner::heading_held() const {
+  return config_.hold_heading_when_still && have_encoder_ &&
+         seconds(enc_t_ - last_wheel_motion_t_) >= config_.standstill_window_s;
+}
+
+bool DeadReckoner::gyro_angle(hal::TimeNs t, double& theta, double& live) const {
   if (knot_count_ == 0 || t < gyro_series_start_) {
     return false;
   }
@@ -52,7 +57,9 @@ bool DeadReckoner::gyro_angle(hal::TimeNs t, double& theta) const {
     if (t - newest.t > timeout) {
       return false;
     }
-    theta = newest.theta + (last_rate_ - bias_) * seconds(t - newest.t);
+    const double ahead = heading_held() ? 0.0 : seconds(t - newest.t);
+    theta = newest.theta + (last_rate_ - bias_) * ahead;
+    live = newest.live + ahead;
     return true;
   }
   for (int i = 1; i < knot_count_; ++i) {
@@ -61,6 +68,7 @@ bool DeadReckoner::gyro_angle(hal::TimeNs t, double& theta) const {
       const Knot& newer = knots_[static_cast<std::size_t>((knot_head_ - i + 1 + kKnots) % kKnots)];
       const double f = seconds(t - older.t) / seconds(newer.t - older.t);
       theta = older.theta + f * (newer.theta - older.theta);
+      live = older.live + f * (newer.live - older.live);
       return true;
     }
   }
@@ -90,18 +98,21 @@ bool DeadReckoner::add_gyro(const hal::GyroSample& s) {
     return false;
   }
   double theta = 0.0;
+  double live = 0.0;
   const bool continues =
       have_gyro_ && s.t_ns - gyro_t_ <= hal::from_seconds(config_.gyro_timeout_s);
   if (knot_count_ > 0) {
     theta = knots_[static_cast<std::size_t>(knot_head_)].theta;
+    live = knots_[static_cast<std::size_t>(knot_head_)].live;
   }
-  if (continues) {
+  if (continues && !heading_held()) {
     theta += 0.5 * ((last_rate_ - bias_) + (s.wz_rad_s - bias_)) * seconds(s.t_ns - gyro_t_);
-  } else {
+    live += seconds(s.t_ns - gyro_t_);
+  } else if (!continues) {
     gyro_series_start_ = s.t_ns;
   }
   knot_head_ = (knot_head_ + 1) % kKnots;
-  knots_[static_cast<std::size_t>(knot_head_)] = Knot{s.t_ns, theta};
+  knots_[static_cast<std::size_t>(knot_head_)] = Knot{s.t_ns, theta, live};
   knot_count_ = std::min(knot_count_ + 1, kKnots);
   last_rate_ = s.wz_rad_s;
   gyro_t_ = s.t_ns;
@@ -131,7 +142,7 @@ void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt,
   F(0, 2) = -distance * s;
   F(1, 2) = distance * c;
   const Eigen::Vector3d g_yaw(-0.5 * distance * s, 0.5 * distance * c, 1.0);
-  if (gyro) {
+  if (gyro && !config_.bias_in_state) {
     const double bi = calibration_.gyro.bias_instability;
     yaw_var += bi * bi * config_.gyro_bias_correlation_time_s * std::abs(dt);
   }
@@ -174,6 +185,7 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     enc_right_ = s.right_ticks;
     seg_t_ = s.t_ns;
     last_motion_t_ = s.t_ns;
+    last_wheel_motion_t_ = s.t_ns;
     ++counters_.encoder_accepted;
     return true;
   }
@@ -195,6 +207,7 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     wheel_speed_ = 0.0;
     enc_yaw_rate_ = 0.0;
     last_motion_t_ = s.t_ns;
+    last_wheel_motion_t_ = s.t_ns;
     return false;
   }
   ++counters_.encoder_accepted;
@@ -205,11 +218,14 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
   if (std::abs(dl_ticks) > config_.standstill_max_ticks ||
       std::abs(dr_ticks) > config_.standstill_max_ticks) {
     last_motion_t_ = s.t_ns;
+    last_wheel_motion_t_ = s.t_ns;
   }
 
   double th0 = 0.0;
   double th1 = 0.0;
-  const bool gyro = gyro_angle(enc_t_, th0) && gyro_angle(s.t_ns, th1);
+  double live0 = 0.0;
+  double live1 = 0.0;
+  const bool gyro = gyro_angle(enc_t_, th0, live0) && gyro_angle(s.t_ns, th1, live1);
   const double dyaw = gyro ? th1 - th0 : dyaw_enc;
   if (!gyro) {
     ++counters_.steps_without_gyro;
@@ -229,10 +245,14 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     double yaw_var = config_.encoder_yaw_noise_rad_per_sqrt_m *
                      config_.encoder_yaw_noise_rad_per_sqrt_m * (std::abs(dl) + std::abs(dr));
     double ths = 0.0;
-    const bool seg_gyro = gyro && gyro_angle(seg_t_, ths);
-    const double seg_dt = seconds(s.t_ns - seg_t_);
+    double lives = 0.0;
+    const bool seg_gyro = gyro && gyro_angle(seg_t_, ths, lives);
+    double seg_dt = seconds(s.t_ns - seg_t_);
     if (seg_gyro) {
       seg_yaw = th1 - ths;
+      if (config_.hold_heading_when_still) {
+        seg_dt = live1 - lives;  // the gyro's integrated time, none while the heading is held
+      }
       const double nd = calibration_.gyro.noise_density;
       yaw_var = nd * nd * seg_dt;
     }
@@ -267,10 +287,15 @@ OdometryIncrement DeadReckoner::take_increment(hal::TimeNs t_ns) {
                        config_.encoder_yaw_noise_rad_per_sqrt_m * 2.0 * std::abs(d);
       double tha = 0.0;
       double thb = 0.0;
-      const double dt = seconds(target - seg_t_);
-      const bool gyro = gyro_angle(seg_t_, tha) && gyro_angle(target, thb);
+      double livea = 0.0;
+      double liveb = 0.0;
+      double dt = seconds(target - seg_t_);
+      const bool gyro = gyro_angle(seg_t_, tha, livea) && gyro_angle(target, thb, liveb);
       if (gyro) {
         dyaw = thb - tha;
+        if (config_.hold_heading_when_still) {
+          dt = liveb - livea;
+        }
         const double nd = calibration_.gyro.noise_density;
         yaw_var = nd * nd * std::abs(dt);
       }
@@ -291,10 +316,11 @@ OdometryIncrement DeadReckoner::take_increment(hal::TimeNs t_ns) {
 OdometryIncrement DeadReckoner::camera_increment(const Increment& in, double dt_s) const {
   const double k = calibration_.wheels.distance_noise;
   const double bi = calibration_.gyro.bias_instability;
-  const Eigen::Matrix3d planar = in.cov + k * k * in.d_scale * in.d_scale.transpose() +
-                                 bi * bi * in.d_bias * in.d_bias.transpose() +
-                                 config_.gyro_scale_error * config_.gyro_scale_error *
-                                     in.d_gyro_scale * in.d_gyro_scale.transpose();
+  const Eigen::Matrix3d planar =
+      in.cov + k * k * in.d_scale * in.d_scale.transpose() +
+      (config_.bias_in_state ? 0.0 : bi * bi) * in.d_bias * in.d_bias.transpose() +
+      config_.gyro_scale_error * config_.gyro_scale_error * in.d_gyro_scale *
+          in.d_gyro_scale.transpose();
   // Body increment covariance over (dx, dy, dz, droll, dpitch, dyaw).
   Matrix6d Pb = Matrix6d::Zero();
   const int idx[3] = {0, 1, 5};
@@ -318,6 +344,9 @@ OdometryIncrement DeadReckoner::camera_increment(const Increment& in, double dt_
   out.dpsi_c = u.tail<3>();
   const Matrix6d Q = J * Pb * J.transpose();
   out.Q = 0.5 * (Q + Q.transpose());
+  Vector6d d_bias_body;
+  d_bias_body << in.d_bias.x(), in.d_bias.y(), 0.0, 0.0, 0.0, in.d_bias.z();
+  out.du_dbias = J * d_bias_body;
   out.distance_m = in.distance;
   out.dt_s = dt_s;
   out.gyro_used = in.gyro_used;

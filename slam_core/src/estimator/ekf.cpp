@@ -49,7 +49,9 @@ const char* to_string(ObservationResult r) {
 Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
     : config_(config),
       camera_(calibration.camera),
-      max_slots_(std::clamp(config.max_landmarks, 0, hal::kMaxLandmarks)) {
+      max_slots_(std::clamp(config.max_landmarks, 0, hal::kMaxLandmarks)),
+      first_slot_(config.gyro_bias_state ? 1 : 0),
+      bias_std0_(calibration.gyro.bias_instability) {
   x_.setZero(kMaxStateDim);
   P_.setZero(kMaxStateDim, kMaxStateDim);
   nu_.setZero(kMaxMeasDim);
@@ -72,7 +74,10 @@ void Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
   used_.fill(false);
   info_.fill(SlotInfo{});
   landmark_count_ = 0;
-  active_dim_ = kPose;
+  active_dim_ = row_of(first_slot_);
+  if (first_slot_ > 0) {
+    P_(kBiasRow, kBiasRow) = bias_std0_ * bias_std0_;
+  }
   update_counter_ = 0;
   last_motion_w_.setZero();
   status_ = UpdateStatus{};
@@ -105,11 +110,34 @@ double Ekf::relative_depth_std(int slot) const {
   return std::sqrt(std::max(0.0, u.dot(Prel * u))) / depth;
 }
 
+double Ekf::depth_std_given_pose(int slot) const {
+  if (!slot_used(slot)) {
+    return -1.0;
+  }
+  const int lm = row_of(slot);
+  const Eigen::Vector3d d = x_.segment<3>(lm) - x_.head<3>();
+  const double depth = d.norm();
+  if (!(depth > 0.0)) {
+    return -1.0;
+  }
+  const Eigen::Vector3d u = d / depth;
+  // Var of u^T y given the pose: the Schur complement P_yy - P_yx P_xx^-1 P_xy.
+  const Eigen::Matrix<double, 6, 1> Pxy_u = P_.block<6, 3>(0, lm) * u;
+  const Eigen::LDLT<Matrix6d> ldlt(P_.topLeftCorner<6, 6>());
+  double var = u.dot(P_.block<3, 3>(lm, lm) * u);
+  if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
+    var -= Pxy_u.dot(ldlt.solve(Pxy_u));
+  }
+  return std::sqrt(std::max(0.0, var)) / depth;
+}
+
 bool Ekf::young(int slot) const {
   if (!config_.consider_young_landmarks || !slot_used(slot)) {
     return false;
   }
-  return relative_depth_std(slot) > config_.young_depth_std_fraction;
+  const double s =
+      config_.young_depth_given_pose ? depth_std_given_pose(slot) : relative_depth_std(slot);
+  return s > config_.young_depth_std_fraction;
 }
 
 Eigen::Vector3d Ekf::landmark(int slot) const {
@@ -133,7 +161,7 @@ void Ekf::recompute_active_dim() {
       highest = i;
     }
   }
-  active_dim_ = row_of(highest + 1);
+  active_dim_ = row_of(std::max(highest + 1, first_slot_));
 }
 
 PredictStatus Ekf::predict(const OdometryIncrement& u) {
@@ -153,35 +181,54 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
     return status;
   }
   const Vector6d pose = x_.head<6>();
+  const bool bias = first_slot_ > 0;
+  // With the gyro bias state b, the increment is u + du/db b and d pose / d b = G du/db.
+  Vector6d ub;
+  ub << u.dx_c, u.dpsi_c;
+  if (bias) {
+    ub += u.du_dbias * x_(kBiasRow);
+  }
   Matrix6d F;
   Matrix6d G;
-  prediction_jacobians(pose, u.dx_c, u.dpsi_c, F, G);
-  last_motion_w_ = G.topLeftCorner<3, 3>() * u.dx_c;
-  x_.head<6>() = predict_pose(pose, u.dx_c, u.dpsi_c);  // eq. 3-4
+  prediction_jacobians(pose, ub.head<3>(), ub.tail<3>(), F, G);
+  last_motion_w_ = G.topLeftCorner<3, 3>() * ub.head<3>();
+  x_.head<6>() = predict_pose(pose, ub.head<3>(), ub.tail<3>());  // eq. 3-4
   x_(3) = wrap_angle(x_(3));
   x_(5) = wrap_angle(x_(5));
 
   const Matrix6d Pxx = P_.topLeftCorner<6, 6>();
-  const Matrix6d Pn = F * Pxx * F.transpose() + G * Q * G.transpose();  // eq. 7
-  P_.topLeftCorner<6, 6>() = 0.5 * (Pn + Pn.transpose());
+  Matrix6d Pn = F * Pxx * F.transpose() + G * Q * G.transpose();  // eq. 7
+  const Vector6d Fb = bias ? (G * u.du_dbias).eval() : Vector6d::Zero();
+  if (bias) {
+    const Vector6d FPxb = F * P_.block<6, 1>(0, kBiasRow);
+    Pn += FPxb * Fb.transpose() + Fb * FPxb.transpose() +
+          P_(kBiasRow, kBiasRow) * Fb * Fb.transpose();
+  }
   const int nl = active_dim_ - kPose;
   if (nl > 0) {  // eq. 8
     cross_.resize(6, nl);
     cross_.noalias() = F.lazyProduct(P_.block(0, kPose, 6, nl));
+    if (bias) {
+      cross_.noalias() += Fb.lazyProduct(P_.block(kBiasRow, kPose, 1, nl));
+    }
     P_.block(0, kPose, 6, nl) = cross_;
     P_.block(kPose, 0, nl, 6) = cross_.transpose();
+  }
+  P_.topLeftCorner<6, 6>() = 0.5 * (Pn + Pn.transpose());
+  if (bias) {
+    P_(kBiasRow, kBiasRow) += config_.gyro_bias_walk * config_.gyro_bias_walk * std::abs(u.dt_s);
   }
   return status;
 }
 
 int Ekf::take_slot() {
-  for (int i = 0; i < max_slots_; ++i) {
+  for (int i = first_slot_; i < max_slots_; ++i) {
     if (!used_[static_cast<std::size_t>(i)]) {
       return i;
     }
   }
   int victim = -1;
-  for (int i = 0; i < max_slots_; ++i) {
+  for (int i = first_slot_; i < max_slots_; ++i) {
     const SlotInfo& s = info_[static_cast<std::size_t>(i)];
     if (victim < 0) {
       victim = i;

@@ -105,5 +105,28 @@ TEST(Config, AMissingFileIsAnErrorNamingIt) {
   EXPECT_NE(r.errors[0].find("/nonexistent/robot.yaml"), std::string::npos);
 }
 
+TEST(Config, SparseOdometryKeysParseAndAreRangeChecked) {
+  const ConfigResult r = parse_config(
+      "filter:\n  young_depth_given_pose: true\n  gyro_bias_state: true\n  gyro_bias_walk: 0.0005\n"
+      "  hold_heading_when_still: false\n  reinit_behind_camera: true\n",
+      "s.yaml", {});
+  ASSERT_TRUE(r.ok()) << joined(r.errors);
+  EXPECT_TRUE(r.config.filter.young_depth_given_pose);
+  EXPECT_TRUE(r.config.filter.gyro_bias_state);
+  EXPECT_EQ(r.config.filter.gyro_bias_walk, 0.0005);
+  EXPECT_FALSE(r.config.filter.hold_heading_when_still);
+  EXPECT_TRUE(r.config.filter.reinit_behind_camera);
+  const FirmwareConfig defaults;
+  EXPECT_TRUE(defaults.filter.hold_heading_when_still);
+  EXPECT_FALSE(defaults.filter.gyro_bias_state || defaults.filter.reinit_behind_camera ||
+               defaults.filter.young_depth_given_pose);
+  const ConfigResult bad =
+      parse_config("filter:\n  gyro_bias_walk: -1\n  gyro_bias_state: maybe\n", "b.yaml", {});
+  ASSERT_EQ(bad.errors.size(), 2U) << joined(bad.errors);
+  const std::string all = joined(bad.errors);
+  EXPECT_NE(all.find("b.yaml:2: filter.gyro_bias_walk"), std::string::npos) << all;
+  EXPECT_NE(all.find("b.yaml:3: filter.gyro_bias_state"), std::string::npos) << all;
+}
+
 }  // namespace
 }  // namespace cleanslam

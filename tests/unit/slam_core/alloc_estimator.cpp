@@ -97,6 +97,8 @@ struct EkfRun {
       u.dx_c = Eigen::Vector3d(0.05, 0.0, 0.0);
       u.dpsi_c = Eigen::Vector3d(0.0, 0.0, step % 40 < 20 ? 0.02 : -0.02);
       u.Q.diagonal() << 1e-5, 1e-6, 1e-7, 1e-7, 1e-7, 1e-6;
+      u.du_dbias << 0.0, 0.0, 0.0, 0.0, 0.0, -0.5;  // used by the gyro bias state only
+      u.dt_s = 0.5;
       ekf->predict(u);
       // New landmarks every step: the pool fills (128) and then recycles its least useful slots.
       for (int k = 0; k < 3; ++k) {
@@ -176,6 +178,24 @@ TEST(EstimatorAllocation, EkfChunkedUpdatesAllocateNothing) {
   EXPECT_GT(run.continued, 10 * run.updates_applied);  // many bounded steps per update
   EXPECT_TRUE(run.finite);
   EXPECT_TRUE(ekf->state().allFinite());
+}
+
+TEST(EstimatorAllocation, EkfWithGyroBiasStateAndPoseGivenYoungTestAllocatesNothing) {
+  hal::Calibration calibration;
+  calibration.gyro.bias_instability = 0.005;
+  cs::EkfConfig config;
+  config.gyro_bias_state = true;
+  config.gyro_bias_walk = 0.0005;
+  config.young_depth_given_pose = true;
+  auto ekf = std::make_unique<cs::Ekf>(calibration, config);
+  ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6);
+  EkfRun run;
+  run.ekf = ekf.get();
+  run_with_small_stack(run);
+  EXPECT_EQ(run.allocations, 0U);
+  EXPECT_GT(run.updates_applied, 50);
+  EXPECT_TRUE(run.finite);
+  EXPECT_GT(ekf->gyro_bias_variance(), 0.0);
 }
 
 namespace {

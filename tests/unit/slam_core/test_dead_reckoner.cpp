@@ -338,3 +338,70 @@ TEST(DeadReckoner, PersistentErrorsInflateQByCorrelationTimeAndLength) {
   EXPECT_NEAR(d.Q(0, 0) - c.Q(0, 0), k * k * 5.0 * 0.5, 1e-9);
   EXPECT_GT(Eigen::SelfAdjointEigenSolver<cs::Matrix6d>(d.Q).eigenvalues().minCoeff(), -1e-15);
 }
+
+TEST(DeadReckoner, DuDbiasIsTheNumericalDerivativeOfTheIncrementByAGyroOffset) {
+  const hal::Calibration cal;
+  const cs::DeadReckoningConfig c;
+  const auto run = [&](double offset) {
+    cs::DeadReckoner dr(cal, c);
+    Drive drive(dr, cal);
+    drive.v = [](double) { return 0.2; };
+    drive.w = [](double t) { return 0.3 + 0.2 * std::sin(t); };
+    drive.gyro_bias = offset;
+    drive.run_until(0);
+    dr.take_increment(0);
+    drive.run_until(2030 * kMs);
+    return dr.take_increment(2030 * kMs);
+  };
+  const cs::OdometryIncrement u = run(0.0);
+  const auto f = [&](const Eigen::Matrix<double, 1, 1>& b) {
+    const cs::OdometryIncrement ub = run(b(0));
+    cs::Vector6d out;
+    out << ub.dx_c, ub.dpsi_c;
+    return out;
+  };
+  // A gyro reading b too high is a residual bias b: the true increment is u(b) + du_dbias b.
+  const cs::Vector6d numeric =
+      -cleanslam::test::numeric_jacobian<6, 1>(f, Eigen::Matrix<double, 1, 1>::Zero(), 1e-4);
+  EXPECT_LT((u.du_dbias - numeric).cwiseAbs().maxCoeff(), 1e-6) << u.du_dbias.transpose() << "\n"
+                                                                << numeric.transpose();
+  EXPECT_GT(u.du_dbias.norm(), 1.0);
+}
+
+TEST(DeadReckoner, HoldsTheHeadingWhileTheWheelsStandStill) {
+  const hal::Calibration cal;
+  cs::DeadReckoningConfig held;
+  held.hold_heading_when_still = true;
+  const auto still_then_turn = [&](const cs::DeadReckoningConfig& c, double& yaw_still,
+                                   double& var_still, double& yaw_turned) {
+    cs::DeadReckoner dr(cal, c);
+    Drive drive(dr, cal);
+    drive.gyro_bias = 0.02;
+    drive.gyro_noise = 0.1;  // per sample, far above standstill_rate_rad_s
+    drive.w = [](double t) { return t > 10.0 ? 0.4 : 0.0; };
+    drive.run_until(0);
+    dr.take_increment(0);
+    drive.run_until(10000 * kMs);
+    const cs::OdometryIncrement u = dr.take_increment(10000 * kMs);
+    yaw_still = dr.yaw();
+    var_still = u.Q.trace();
+    drive.run_until(12000 * kMs);
+    yaw_turned = dr.yaw() - yaw_still;
+  };
+  double yaw_held = 0.0;
+  double var_held = 0.0;
+  double turn_held = 0.0;
+  still_then_turn(held, yaw_held, var_held, turn_held);
+  double yaw_free = 0.0;
+  double var_free = 0.0;
+  double turn_free = 0.0;
+  still_then_turn(cs::DeadReckoningConfig{}, yaw_free, var_free, turn_free);
+  // Only the first standstill window (0.5 s) is integrated: 0.01 rad of bias, 0.007 of noise; the
+  // gyro's own standstill test never passes, so without the hold 10 s of bias (0.2 rad) are.
+  EXPECT_LT(std::abs(yaw_held), 0.04);
+  EXPECT_GT(yaw_free, 0.12);
+  EXPECT_LT(var_held, 0.1 * var_free);
+  // Turning on the spot moves the wheels: the gyro is integrated again.
+  EXPECT_NEAR(turn_held, 0.84, 0.05);
+  EXPECT_NEAR(turn_free, 0.84, 0.05);
+}

@@ -23,6 +23,7 @@ struct FilterSettings {
   // Consider (Schmidt) update while a landmark's relative depth std. dev. exceeds the fraction.
   bool consider_young_landmarks = true;
   double young_depth_std_fraction = 0.3;
+  bool young_depth_given_pose = false;  // judged on the depth's std. dev. given the pose
   // Depth bounds of updates along the optical axis: in front of the camera, and within
   // max_depth_m (the workspace's size, 0: no upper bound).
   bool depth_bounds = true;
@@ -31,6 +32,13 @@ struct FilterSettings {
   double gyro_bias_correlation_time_s = 10.0;
   double distance_scale_correlation_m = 0.0;
   double gyro_scale_error = 0.005;
+  // Residual gyro bias as a filter state (slam_core::EkfConfig::gyro_bias_state).
+  bool gyro_bias_state = false;
+  double gyro_bias_walk = 0.0;  // rad/s/sqrt(s)
+  // Heading held while the wheels stand still (slam_core::DeadReckoningConfig).
+  bool hold_heading_when_still = true;
+  // A tracked feature whose landmark is predicted behind the camera re-initializes the landmark.
+  bool reinit_behind_camera = false;
 };
 
 struct FrontendSettings {

@@ -49,6 +49,13 @@ struct DeadReckoningConfig {
   // the track; 0 disables either.
   double gyro_bias_correlation_time_s = 0.0;
   double distance_scale_correlation_m = 0.0;
+  // The filter estimates the gyro bias (EkfConfig::gyro_bias_state): Q leaves out both bias terms
+  // (within one increment and gyro_bias_correlation_time_s).
+  bool bias_in_state = false;
+  // A differential drive whose wheels did not turn for standstill_window_s does not rotate: the
+  // gyro is not integrated then (heading and its variance held), whatever its noise. The gyro
+  // test of standing_still() cannot see that through a noisy gyro.
+  bool hold_heading_when_still = false;
   // Relative gyro scale error, one value within an increment (like the distance scale).
   double gyro_scale_error = 0.0;
 };
@@ -102,6 +109,7 @@ class DeadReckoner {
   struct Knot {
     hal::TimeNs t = 0;
     double theta = 0.0;  // integral of (rate - bias) since the first sample
+    double live = 0.0;   // seconds of that integral not held (hold_heading_when_still)
   };
   struct Increment {
     double x = 0.0;
@@ -116,8 +124,9 @@ class DeadReckoner {
     bool gyro_used = true;
   };
 
-  // Heading integral at t; false when the gyro does not cover t.
-  bool gyro_angle(hal::TimeNs t, double& theta) const;
+  // Heading integral at t and the integrated (not held) time; false when the gyro does not cover t.
+  bool gyro_angle(hal::TimeNs t, double& theta, double& live) const;
+  [[nodiscard]] bool heading_held() const;
   void step(double distance, double dyaw, double yaw_var, double dt, bool gyro, double wheels);
   OdometryIncrement camera_increment(const Increment& inc, double dt_s) const;
 
@@ -156,6 +165,7 @@ class DeadReckoner {
   double bias_ = 0.0;
   int bias_samples_ = 0;
   hal::TimeNs last_motion_t_ = 0;
+  hal::TimeNs last_wheel_motion_t_ = 0;
   bool have_gyro_ = false;
   hal::TimeNs gyro_t_ = 0;
 

@@ -103,11 +103,19 @@ class Ekf {
   int joint_pixel_innovation(const Observation* obs, int count, double* nu, double* S) const;
 
   [[nodiscard]] Vector6d camera_pose() const { return x_.head<6>(); }
+  // The residual gyro bias state (rad/s) and its variance; 0 without EkfConfig::gyro_bias_state.
+  [[nodiscard]] double gyro_bias() const { return first_slot_ > 0 ? x_(kBiasRow) : 0.0; }
+  [[nodiscard]] double gyro_bias_variance() const {
+    return first_slot_ > 0 ? P_(kBiasRow, kBiasRow) : 0.0;
+  }
   [[nodiscard]] Matrix6d pose_covariance() const { return P_.topLeftCorner<6, 6>(); }
   [[nodiscard]] bool slot_used(int slot) const;
   // Std. dev. of the landmark's depth relative to the camera, along the camera-landmark line,
   // divided by that depth; -1 for an unused slot.
   [[nodiscard]] double relative_depth_std(int slot) const;
+  // The same for the landmark's depth given the camera pose (the map's own uncertainty, without
+  // the pose's); -1 for an unused slot.
+  [[nodiscard]] double depth_std_given_pose(int slot) const;
   // The consider update applies to it (EkfConfig::consider_young_landmarks).
   [[nodiscard]] bool young(int slot) const;
   [[nodiscard]] Eigen::Vector3d landmark(int slot) const;
@@ -131,6 +139,8 @@ class Ekf {
     std::uint32_t fused = 0;
   };
   static int row_of(int slot) { return hal::kPoseDim + hal::kLandmarkDim * slot; }
+  // With EkfConfig::gyro_bias_state, slot 0 is reserved: its first row holds the bias.
+  static constexpr int kBiasRow = hal::kPoseDim;
   [[nodiscard]] bool valid_used_slot(int slot) const;
   int take_slot();
   void recompute_active_dim();
@@ -154,6 +164,8 @@ class Ekf {
   EkfConfig config_;
   CameraModel camera_;
   int max_slots_;
+  int first_slot_;
+  double bias_std0_;
 
   StateVector x_;
   StateMatrix P_;

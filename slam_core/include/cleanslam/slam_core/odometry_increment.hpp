@@ -10,6 +10,9 @@ struct OdometryIncrement {
   Eigen::Vector3d dx_c = Eigen::Vector3d::Zero();
   Eigen::Vector3d dpsi_c = Eigen::Vector3d::Zero();
   Eigen::Matrix<double, 6, 6> Q = Eigen::Matrix<double, 6, 6>::Zero();
+  // d (dx_c, dpsi_c) / d b: how the increment changes with a residual gyro bias b (rad/s) that
+  // the dead reckoner did not subtract.
+  Eigen::Matrix<double, 6, 1> du_dbias = Eigen::Matrix<double, 6, 1>::Zero();
   double distance_m = 0.0;  // travelled by the body (unsigned)
   double dt_s = 0.0;
   bool gyro_used = true;  // false when the heading came from the encoders alone

@@ -1,0 +1,83 @@
+#!/usr/bin/python3
+"""Error of a run against ground truth over time, with the filter's own standard deviations, to
+see when an estimate diverges and whether its covariance admits it.
+
+  tools/eval/error_timeline.py DATASET RUN [--every SECONDS]
+
+DATASET holds groundtruth.csv; RUN holds trajectory.tum and trajectory.tum.cov (cleanslam-replay
+--out). Both trajectories are taken relative to their pose at the run's first time, as
+cleanslam-eval --align none does. Prints t, planar error (x, y), its std. dev., yaw error and its
+std. dev. (degrees) and the (x, y, yaw) NEES per degree of freedom; the mean NEES per dof last.
+"""
+
+import argparse
+import math
+import os
+import sys
+
+import numpy as np
+
+
+def yaw_of(qw, qx, qy, qz):
+    return math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
+
+
+def relative(x, y, yaw, x0, y0, yaw0):
+    c, s = math.cos(-yaw0), math.sin(-yaw0)
+    dx, dy = x - x0, y - y0
+    return c * dx - s * dy, s * dx + c * dy, yaw - yaw0
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dataset")
+    ap.add_argument("run")
+    ap.add_argument("--every", type=float, default=30.0, help="print every this many seconds")
+    a = ap.parse_args(argv)
+    try:
+        gt = np.loadtxt(os.path.join(a.dataset, "groundtruth.csv"), delimiter=",", comments="#",
+                        ndmin=2)
+        est = np.loadtxt(os.path.join(a.run, "trajectory.tum"), ndmin=2)
+        cov = np.loadtxt(os.path.join(a.run, "trajectory.tum.cov"), ndmin=2)
+    except (OSError, ValueError) as e:
+        print(f"error_timeline: {e}", file=sys.stderr)
+        return 1
+    if len(cov) != len(est) or cov.shape[1] != 37:
+        print(f"error_timeline: {a.run}/trajectory.tum.cov: expected t and 36 values per pose of "
+              "trajectory.tum", file=sys.stderr)
+        return 1
+    gt_t = gt[:, 0] * 1e-9
+    gt_yaw = np.unwrap([yaw_of(*r[4:8]) for r in gt])
+    t = est[:, 0]
+    keep = (t >= gt_t[0]) & (t <= gt_t[-1])
+    if not keep.any():
+        print("error_timeline: no pose of the run lies within the ground truth", file=sys.stderr)
+        return 1
+    t, est, cov = t[keep], est[keep], cov[keep]
+    gx, gy = np.interp(t, gt_t, gt[:, 1]), np.interp(t, gt_t, gt[:, 2])
+    gw = np.interp(t, gt_t, gt_yaw)
+    ew = np.unwrap([yaw_of(r[7], r[4], r[5], r[6]) for r in est])
+    nees, last = [], -math.inf
+    for i in range(len(t)):
+        g = relative(gx[i], gy[i], gw[i], gx[0], gy[0], gw[0])
+        e = relative(est[i, 1], est[i, 2], ew[i], est[0, 1], est[0, 2], ew[0])
+        err = np.array([e[0] - g[0], e[1] - g[1],
+                        (e[2] - g[2] + math.pi) % (2.0 * math.pi) - math.pi])
+        P = cov[i, 1:].reshape(6, 6)[np.ix_([0, 1, 5], [0, 1, 5])]
+        try:
+            q = float(err @ np.linalg.solve(P, err)) / 3.0
+        except np.linalg.LinAlgError:
+            q = math.nan
+        nees.append(q)
+        if t[i] - last >= a.every:
+            last = t[i]
+            print(f"t {t[i]:7.1f} s  err x {err[0]:6.2f} y {err[1]:6.2f} m (std "
+                  f"{math.sqrt(max(P[0, 0] + P[1, 1], 0.0)):5.2f})  yaw {math.degrees(err[2]):7.1f}"
+                  f" deg (std {math.degrees(math.sqrt(max(P[2, 2], 0.0))):6.1f})  NEES/dof {q:8.2f}")
+    print(f"mean (x, y, yaw) NEES per dof: {np.nanmean(nees):.3g}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
