@@ -1,6 +1,7 @@
 // The complete cleanslam in the guest: on vcan0 (a simulated base board: gyro 100 Hz, encoders
-// 20 Hz), the PL061 lift line and vivid's camera, for a few seconds; it must keep running, send
-// pose frames, see the lift, and stop cleanly on SIGTERM.
+// 20 Hz), the PL061 lift line, vivid's camera and the status LED on PL061 line 0, for a few
+// seconds; it must keep running, send pose frames, see the lift, drive the LED from its health
+// (read back from the kernel's /sys/kernel/debug/gpio) and stop cleanly on SIGTERM.
 #include <fcntl.h>
 #include <linux/can.h>
 #include <net/if.h>
@@ -14,6 +15,7 @@
 #include <atomic>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -69,6 +71,19 @@ void base_board(std::atomic<bool>* stop) {
   ::close(s);
 }
 
+// The level the kernel reports for the status LED (our output line): 1, 0, or -1 when no line
+// of ours is an output (not requested, or released).
+int led_level() {
+  std::ifstream in("/sys/kernel/debug/gpio");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.find("cleanslam") != std::string::npos && line.find(" out ") != std::string::npos) {
+      return line.find(" out hi") != std::string::npos ? 1 : 0;
+    }
+  }
+  return -1;
+}
+
 }  // namespace
 
 int main() {
@@ -104,6 +119,8 @@ int main() {
                           "sinks.can_interface=vcan0",
                           "--set",
                           "sinks.tum=/tmp/cleanslam.tum",
+                          "--set",
+                          "robot.status_led_line=0",
                           nullptr};
     ::execv(argv[0], const_cast<char* const*>(argv));
     std::perror("execv");
@@ -116,7 +133,16 @@ int main() {
   bool lift_requested = false;
   bool exited_early = false;
   int status = 0;
+  int led_samples[3] = {0, 0, 0};  // absent, low, high, after the first second
+  int led_changes = 0;
+  int led_last = -1;
   while (now_ns() - start < 6'000'000'000LL) {
+    if (now_ns() - start > 1'000'000'000LL) {
+      const int level = led_level();
+      ++led_samples[level + 1];
+      led_changes += led_last >= 0 && level >= 0 && level != led_last ? 1 : 0;
+      led_last = level;
+    }
     if (!lift_requested && now_ns() - start > 3'000'000'000LL) {
       std::printf("KERNEL-REQUEST powerdown\n");
       std::fflush(stdout);
@@ -159,8 +185,14 @@ int main() {
       check.note("still running 5 s after SIGTERM: killed");
     }
   }
+  const int led_after = led_level();
   stop = true;
   board.join();
+  check.note("status LED: %d samples high, %d low, %d absent, %d changes while running",
+             led_samples[2], led_samples[1], led_samples[0], led_changes);
+  check.expect(led_samples[0] == 0, "the status LED line was not an output of cleanslam");
+  check.expect(led_samples[2] > 0, "the status LED was never lit");
+  check.expect(led_after != 1, "the status LED stayed lit after cleanslam stopped");
   check.expect(clean, "cleanslam did not stop cleanly on SIGTERM");
   check.note("%d pose frames on vcan0, %d of them flagged lifted", pose_frames, lifted_frames);
   check.expect(pose_frames >= 10, "only %d pose frames on vcan0", pose_frames);
