@@ -1,16 +1,22 @@
 // The robot's wiring in the firmware: the robot.* keys, the status LED driven from the loop's
 // health, and the set-down policy after a lift.
 #include <gtest/gtest.h>
+#include <pthread.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "../drivers/fake_gpio.hpp"
 #include "cleanslam/firmware/config.hpp"
 #include "cleanslam/firmware/loop.hpp"
+#include "cleanslam/firmware/program.hpp"
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/slam_estimator.hpp"
 #include "cleanslam/firmware/status_indicator.hpp"
@@ -277,6 +283,62 @@ TEST(SetDown, NewMapStartsOverAtTheSetDownPoseRelocalizeKeepsTheMap) {
               err_rel, err_new, err_lift);
   EXPECT_LT(err_rel, 0.3);
   EXPECT_GT(err_new, 1.0);  // a new frame: far from the original world's ground truth
+}
+
+// The complete program on a robot whose devices are all missing: every one explained, the
+// firmware keeps running (degraded) until SIGTERM and stops cleanly.
+TEST(RobotProgram, MissingDevicesAreExplainedAndTheFirmwareRunsUntilStopped) {
+  std::vector<std::string> args{"cleanslam",
+                                "--set",
+                                "source.kind=drivers",
+                                "--set",
+                                "source.can_interface=nocan7",
+                                "--set",
+                                "source.camera_device=/nonexistent/video9",
+                                "--set",
+                                "source.gpio_chip=/nonexistent/gpiochip9",
+                                "--set",
+                                "source.lift_line=3",
+                                "--set",
+                                "robot.status_led_line=1",
+                                "--set",
+                                "robot.gyro_ready_line=2",
+                                "--set",
+                                "sinks.can=true",
+                                "--set",
+                                "sinks.can_interface=nocan7"};
+  std::vector<char*> argv;
+  for (auto& a : args) {
+    argv.push_back(a.data());
+  }
+  argv.push_back(nullptr);
+  std::atomic<bool> done{false};
+  const pthread_t main_thread = ::pthread_self();
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    while (!done.load()) {  // again until it is seen (it may come before the handler is in)
+      ::pthread_kill(main_thread, SIGTERM);
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    }
+  });
+  struct sigaction ignore {};
+  struct sigaction old {};
+  ignore.sa_handler = [](int) {};
+  ::sigaction(SIGTERM, &ignore, &old);
+  ::testing::internal::CaptureStderr();
+  const int rc = firmware::program_main(static_cast<int>(args.size()), argv.data());
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  done = true;
+  stopper.join();
+  ::sigaction(SIGTERM, &old, nullptr);
+  EXPECT_EQ(rc, 0) << err;
+  for (const char* expected :
+       {"'nocan7'", "cannot open camera '/nonexistent/video9'",
+        "GPIO chip '/nonexistent/gpiochip9' for the lift switch not found",
+        "for the status LED not found", "for the gyro data-ready input not found",
+        "encoders silent", "stopped by signal, outputs flushed"}) {
+    EXPECT_NE(err.find(expected), std::string::npos) << expected << "\n" << err;
+  }
 }
 
 }  // namespace
