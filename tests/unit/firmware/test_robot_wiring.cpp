@@ -312,24 +312,26 @@ TEST(RobotProgram, MissingDevicesAreExplainedAndTheFirmwareRunsUntilStopped) {
     argv.push_back(a.data());
   }
   argv.push_back(nullptr);
-  std::atomic<bool> done{false};
-  const pthread_t main_thread = ::pthread_self();
-  std::thread stopper([&] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-    while (!done.load()) {  // again until it is seen (it may come before the handler is in)
-      ::pthread_kill(main_thread, SIGTERM);
-      std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    }
-  });
+  // SIGTERM after 1.5 s, again every 0.5 s until seen (it may come before the handler is in),
+  // from a timer: process-directed like systemd's, no thread (qemu-user routes those poorly).
+  sigevent ev{};
+  ev.sigev_notify = SIGEV_SIGNAL;
+  ev.sigev_signo = SIGTERM;
+  timer_t timer{};
+  ASSERT_EQ(::timer_create(CLOCK_MONOTONIC, &ev, &timer), 0);
   struct sigaction ignore {};
   struct sigaction old {};
   ignore.sa_handler = [](int) {};
   ::sigaction(SIGTERM, &ignore, &old);
+  itimerspec when{};
+  when.it_value.tv_nsec = 500'000'000;
+  when.it_value.tv_sec = 1;
+  when.it_interval.tv_nsec = 500'000'000;
+  ::timer_settime(timer, 0, &when, nullptr);
   ::testing::internal::CaptureStderr();
   const int rc = firmware::program_main(static_cast<int>(args.size()), argv.data());
   const std::string err = ::testing::internal::GetCapturedStderr();
-  done = true;
-  stopper.join();
+  ::timer_delete(timer);
   ::sigaction(SIGTERM, &old, nullptr);
   EXPECT_EQ(rc, 0) << err;
   for (const char* expected :
