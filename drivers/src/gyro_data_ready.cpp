@@ -7,6 +7,7 @@ GyroDataReady::GyroDataReady(const GyroDataReadyConfig& config, GpioApi& api, Os
     : config_(config),
       api_(api),
       os_(os),
+      diagnostics_(diagnostics),
       line_(api, diagnostics, "gyro-drdy", config.gpio, "gyro data-ready input",
             GpioLine::Mode::kRisingEdge) {
   event_fd_ = line_.event_fd();
@@ -44,10 +45,24 @@ bool GyroDataReady::sample_time(hal::TimeNs received_ns, hal::TimeNs& sample_ns)
     if (received_ns - t <= config_.max_latency_ns) {
       sample_ns = t;
       ++stats_.matched;
+      if (missing_) {
+        missing_ = false;
+        reportf(diagnostics_, Severity::kInfo, "gyro-drdy",
+                "data-ready edges are back: gyro samples take the edge time again (%llu frames "
+                "without an edge so far)",
+                static_cast<unsigned long long>(stats_.unmatched));
+      }
       return true;
     }
   }
   ++stats_.unmatched;
+  if (!missing_) {
+    missing_ = true;
+    reportf(diagnostics_, Severity::kWarning, "gyro-drdy",
+            "no data-ready edge within %.1f ms before the gyro frame received at %.3f s: using "
+            "the CAN reception time until edges return",
+            hal::to_seconds(config_.max_latency_ns) * 1e3, hal::to_seconds(received_ns));
+  }
   return false;
 }
 

@@ -30,4 +30,9 @@ RobotDrivers::RobotDrivers(const RobotDriversConfig& config, Os& os, GpioApi& gp
   }
 }
 
+bool RobotDrivers::inputs_missing() const {
+  return (lift_ != nullptr && !lift_->available()) ||
+         (gyro_ready_ != nullptr && !gyro_ready_->available());
+}
+
 }  // namespace cleanslam::drivers

@@ -150,7 +150,7 @@ void Loop::ingest(const hal::SensorEvent& ev, hal::TimeNs now) {
         recorder_->lift(now, ev.lifted);
       }
       if (lifted_ && !ev.lifted) {
-        estimator_.reset(now);  // set down somewhere unknown: a new map
+        estimator_.set_down(now);  // a new map or relocalization (robot.on_set_down)
       }
       lifted_ = ev.lifted;
       if (lifted_) {
@@ -341,6 +341,9 @@ void Loop::update_health(hal::TimeNs now) {
   }
   if (lifted_) {
     h |= hal::kLifted | hal::kPoseLost;
+  }
+  if (estimator_.pose_lost()) {
+    h |= hal::kPoseLost;
   }
   if (h != health_) {
     if (observer_ != nullptr) {

@@ -10,6 +10,7 @@
 #include "cleanslam/firmware/replay_check.hpp"
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/sinks.hpp"
+#include "cleanslam/firmware/status_indicator.hpp"
 #include "cleanslam/firmware/systemd_notifier.hpp"
 #include "cleanslam/sim_hal/dataset_source.hpp"
 #include "cleanslam/sim_hal/log_source.hpp"
@@ -260,6 +261,15 @@ int run_normal(const Args& args) {
         dc.lift.gpio.chip = config.source.gpio_chip;
         dc.lift.gpio.line = std::to_string(config.source.lift_line);
       }
+      if (config.robot.status_led_line >= 0) {
+        dc.status_led.chip = config.source.gpio_chip;
+        dc.status_led.line = std::to_string(config.robot.status_led_line);
+      }
+      if (config.robot.gyro_ready_line >= 0) {
+        dc.gyro_ready.gpio.chip = config.source.gpio_chip;
+        dc.gyro_ready.gpio.line = std::to_string(config.robot.gyro_ready_line);
+        dc.gyro_ready.max_latency_ns = hal::from_seconds(config.robot.gyro_ready_max_latency_s);
+      }
       dc.pose_interface = config.sinks.can ? config.sinks.can_interface : std::string();
       robot = std::make_unique<drivers::RobotDrivers>(dc);
       break;
@@ -320,7 +330,11 @@ int run_normal(const Args& args) {
   RunEnd end = RunEnd::kStopped;
   if (robot) {
     MonotonicClock clock;
-    end = run_live(loop, clock, signals);
+    std::optional<StatusIndicator> indicator;
+    if (robot->status_led() != nullptr) {
+      indicator.emplace(*robot->status_led(), robot->inputs_missing());
+    }
+    end = run_live(loop, clock, signals, indicator ? &*indicator : nullptr);
   } else {
     VirtualClock clock;
     end = run_virtual(loop, clock, config.source.realtime, &signals);

@@ -74,7 +74,7 @@ void StopSignals::reset() {
   g_stop = 0;
 }
 
-RunEnd run_live(Loop& loop, const hal::Clock& clock, const StopSignals& signals) {
+RunEnd run_live(Loop& loop, const hal::Clock& clock, const StopSignals& signals, LiveTask* task) {
   constexpr std::size_t kMaxFds = 16;
   std::array<pollfd, kMaxFds> fds{};
   nfds_t n = 0;
@@ -84,16 +84,26 @@ RunEnd run_live(Loop& loop, const hal::Clock& clock, const StopSignals& signals)
     }
   }
   loop.start(clock.now());
+  if (task != nullptr) {
+    task->run(loop, clock.now());
+  }
   RunEnd end = RunEnd::kStopped;
   while (!StopSignals::requested()) {
     const hal::TimeNs now = clock.now();
-    const hal::TimeNs wait = std::max<hal::TimeNs>(0, loop.next_deadline() - now);
+    hal::TimeNs deadline = loop.next_deadline();
+    if (task != nullptr && task->next_due_ns() >= 0) {
+      deadline = std::min(deadline, task->next_due_ns());
+    }
+    const hal::TimeNs wait = std::max<hal::TimeNs>(0, deadline - now);
     const timespec ts = to_timespec(std::min<hal::TimeNs>(wait, hal::kNsPerSecond));
     ::ppoll(fds.data(), n, &ts, &signals.wait_mask());
     if (StopSignals::requested()) {
       break;
     }
     loop.iterate(clock.now());
+    if (task != nullptr) {
+      task->run(loop, clock.now());
+    }
     if (all_exhausted(loop) && !loop.frame_work_pending()) {
       end = RunEnd::kSourcesExhausted;
       break;

@@ -1,6 +1,7 @@
 // The complete cleanslam in the guest: on vcan0 (a simulated base board: gyro 100 Hz, encoders
-// 20 Hz), the PL061 lift line and vivid's camera, for a few seconds; it must keep running, send
-// pose frames, see the lift, and stop cleanly on SIGTERM.
+// 20 Hz), the PL061 lift line, vivid's camera and the status LED on PL061 line 0, for a few
+// seconds; it must keep running, send pose frames, see the lift, drive the LED from its health
+// (read back from the kernel's /sys/kernel/debug/gpio) and stop cleanly on SIGTERM.
 #include <fcntl.h>
 #include <linux/can.h>
 #include <net/if.h>
@@ -14,6 +15,7 @@
 #include <atomic>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -50,12 +52,19 @@ void send(int s, const can_map::Frame& f) {
   (void)!::write(s, &c, sizeof c);
 }
 
-// The base board: 0.2 m/s forward with a slow left turn.
-void base_board(std::atomic<bool>* stop) {
+// The base board: 0.2 m/s forward with a slow left turn; silent while `quiet`.
+void base_board(std::atomic<bool>* stop, std::atomic<bool>* quiet) {
   const int s = can_socket();
   TimeNs next = now_ns();
   for (int k = 0; !stop->load(); ++k) {
     const auto seq = static_cast<std::uint8_t>(k);
+    if (quiet->load()) {
+      next += 10'000'000;
+      timespec ts{static_cast<time_t>(next / 1'000'000'000),
+                  static_cast<long>(next % 1'000'000'000)};
+      ::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
+      continue;
+    }
     send(s, can_map::encode(can_map::GyroMessage{50'000, 3000, seq, 0}));
     if (k % 5 == 0) {
       const std::int32_t ticks = (k / 5) * 40;  // 0.2 m/s at 4000 ticks/m, 20 Hz
@@ -69,6 +78,19 @@ void base_board(std::atomic<bool>* stop) {
   ::close(s);
 }
 
+// The level the kernel reports for the status LED (our output line): 1, 0, or -1 when no line
+// of ours is an output (not requested, or released).
+int led_level() {
+  std::ifstream in("/sys/kernel/debug/gpio");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.find("cleanslam") != std::string::npos && line.find(" out ") != std::string::npos) {
+      return line.find(" out hi") != std::string::npos ? 1 : 0;
+    }
+  }
+  return -1;
+}
+
 }  // namespace
 
 int main() {
@@ -78,7 +100,8 @@ int main() {
     return check.finish();
   }
   std::atomic<bool> stop{false};
-  std::thread board(base_board, &stop);
+  std::atomic<bool> quiet{false};
+  std::thread board(base_board, &stop, &quiet);
   const int listener = can_socket();
 
   const pid_t pid = ::fork();
@@ -104,6 +127,8 @@ int main() {
                           "sinks.can_interface=vcan0",
                           "--set",
                           "sinks.tum=/tmp/cleanslam.tum",
+                          "--set",
+                          "robot.status_led_line=0",
                           nullptr};
     ::execv(argv[0], const_cast<char* const*>(argv));
     std::perror("execv");
@@ -116,7 +141,28 @@ int main() {
   bool lift_requested = false;
   bool exited_early = false;
   int status = 0;
-  while (now_ns() - start < 6'000'000'000LL) {
+  // The LED after the first second: absent, low, high samples; level changes while all is well
+  // (1-3 s) and while the base board is silent (4-5.5 s: encoders silent, a fault). Under TCG
+  // the firmware's iterations come late (a frame-pipeline step takes up to ~0.3 s emulated), so
+  // the fault's 4 Hz blink shows as at least one dark spell, not as its exact rhythm.
+  int led_samples[3] = {0, 0, 0};
+  int led_changes_ok = 0;
+  int led_changes_silent = 0;
+  int led_last = -1;
+  while (now_ns() - start < 6'500'000'000LL) {
+    const TimeNs since = now_ns() - start;
+    quiet = since > 4'000'000'000LL && since < 5'500'000'000LL;
+    if (since > 1'000'000'000LL) {
+      const int level = led_level();
+      ++led_samples[level + 1];
+      const bool change = led_last >= 0 && level >= 0 && level != led_last;
+      led_changes_ok += change && since < 3'000'000'000LL ? 1 : 0;
+      led_changes_silent += change && since > 4'000'000'000LL && since < 6'000'000'000LL ? 1 : 0;
+      if (change) {
+        std::printf("  firmware: LED %d at %.3f s\n", level, static_cast<double>(since) * 1e-9);
+      }
+      led_last = level;
+    }
     if (!lift_requested && now_ns() - start > 3'000'000'000LL) {
       std::printf("KERNEL-REQUEST powerdown\n");
       std::fflush(stdout);
@@ -159,8 +205,18 @@ int main() {
       check.note("still running 5 s after SIGTERM: killed");
     }
   }
+  const int led_after = led_level();
   stop = true;
   board.join();
+  check.note(
+      "status LED: %d samples high, %d low, %d absent; %d changes while well, %d while the base "
+      "board was silent",
+      led_samples[2], led_samples[1], led_samples[0], led_changes_ok, led_changes_silent);
+  check.expect(led_samples[0] == 0, "the status LED line was not an output of cleanslam");
+  check.expect(led_samples[2] > 0, "the status LED was never lit");
+  check.expect(led_changes_ok == 0, "the LED blinked while everything arrived");
+  check.expect(led_changes_silent >= 2, "the LED did not blink while the base board was silent");
+  check.expect(led_after != 1, "the status LED stayed lit after cleanslam stopped");
   check.expect(clean, "cleanslam did not stop cleanly on SIGTERM");
   check.note("%d pose frames on vcan0, %d of them flagged lifted", pose_frames, lifted_frames);
   check.expect(pose_frames >= 10, "only %d pose frames on vcan0", pose_frames);

@@ -1,15 +1,23 @@
 // Real-kernel check of the libgpiod lines on the virt board's PL061: the power button pulse of
 // QEMU's system_powerdown on line 3 arrives as a lift and a set-down; missing chips and lines are
-// explained; the status LED drives its output; data-ready edges time-stamp gyro samples.
+// explained; the status LED drives its output; a data-ready edge time-stamps the CAN gyro frame
+// that follows it.
+#include <linux/can.h>
+#include <net/if.h>
 #include <poll.h>
+#include <sys/socket.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "cleanslam/drivers/can_base_board.hpp"
+#include "cleanslam/drivers/can_messages.hpp"
 #include "cleanslam/drivers/diagnostics.hpp"
 #include "cleanslam/drivers/gyro_data_ready.hpp"
 #include "cleanslam/drivers/lift_switch.hpp"
@@ -143,30 +151,85 @@ bool check_led() {
   return check.finish() == 0;
 }
 
+int vcan_sender() {
+  const int s = ::socket(PF_CAN, SOCK_RAW, CAN_RAW);
+  sockaddr_can a{};
+  a.can_family = AF_CAN;
+  a.can_ifindex = static_cast<int>(::if_nametoindex("vcan0"));
+  if (s >= 0 && ::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+    ::close(s);
+    return -1;
+  }
+  return s;
+}
+
+// The whole path: gyro frames on vcan0 read by the base-board driver, which asks the data-ready
+// line for their sample time. Frames before and after the power-button edge keep their CAN
+// reception time; the first one after the edge takes the edge's kernel time.
 bool check_data_ready() {
   Check check("gpio_data_ready");
+  Collected diag;
   drivers::GyroDataReadyConfig config;
   config.gpio.line = "3";
   config.max_latency_ns = 2'000'000'000;
-  drivers::GyroDataReady drdy(config);
-  if (!check.expect(drdy.available(), "line 3 not available for data-ready")) {
+  drivers::GyroDataReady drdy(config, drivers::libgpiod_api(), drivers::linux_os(), diag);
+  drivers::CanBaseBoardConfig board_config;
+  board_config.interface = "vcan0";
+  drivers::CanBaseBoard board(board_config, drivers::linux_os(), diag);
+  board.set_gyro_time_reference(&drdy);
+  const int sender = vcan_sender();
+  if (!check.expect(drdy.available(), "line 3 not available for data-ready") ||
+      !check.expect(board.connected() && sender >= 0, "vcan0 not usable")) {
     return check.finish() == 0;
   }
   const TimeNs asked = now_ns();
   request_power_button();
-  TimeNs t = 0;
-  bool matched = false;
-  while (!matched && now_ns() < asked + 8'000'000'000) {
-    struct timespec pause {
-      0, 20'000'000
-    };
+  TimeNs edge_t = -1;
+  TimeNs last_t = -1;
+  int before = 0;
+  int after = 0;
+  bool in_order = true;
+  bool stamps_in_window = true;
+  for (int seq = 0; now_ns() < asked + 8'000'000'000 && after < 5; ++seq) {
+    const auto f = drivers::can_map::encode(
+        drivers::can_map::GyroMessage{10'000, 2500, static_cast<std::uint8_t>(seq), 0});
+    can_frame c{};
+    c.can_id = f.id;
+    c.len = f.length;
+    std::memcpy(c.data, f.data.data(), 8);
+    const TimeNs sent = now_ns();
+    (void)!::write(sender, &c, sizeof c);
+    const timespec pause{0, 20'000'000};
     ::nanosleep(&pause, nullptr);
-    matched = drdy.sample_time(now_ns(), t);
+    const std::uint64_t matched = drdy.stats().matched;
+    SensorEvent e;
+    while (board.read(e)) {
+      if (e.kind != SensorEvent::Kind::kGyro) {
+        continue;
+      }
+      in_order = in_order && e.gyro.t_ns > last_t;
+      last_t = e.gyro.t_ns;
+      if (drdy.stats().matched > matched && edge_t < 0) {
+        edge_t = e.gyro.t_ns;
+        stamps_in_window = stamps_in_window && edge_t > asked && edge_t <= now_ns();
+      } else {
+        // The CAN reception time: between sending and now (1 ms for the clock conversion).
+        stamps_in_window =
+            stamps_in_window && e.gyro.t_ns >= sent - 1'000'000 && e.gyro.t_ns <= now_ns();
+        (edge_t < 0 ? before : after)++;
+      }
+    }
   }
-  check.expect(matched, "no data-ready edge matched");
-  check.expect(!matched || (t > asked && t <= now_ns()),
-               "edge time not between the request and now (monotonic kernel stamps?)");
-  check.note("edge %.1f ms after the request", static_cast<double>(t - asked) * 1e-6);
+  ::close(sender);
+  check.expect(edge_t >= 0, "no gyro frame took a data-ready edge's time");
+  check.expect(drdy.stats().matched == 1, "%llu frames matched an edge, expected 1",
+               static_cast<unsigned long long>(drdy.stats().matched));
+  check.expect(after >= 5, "%d frames on CAN time after the edge, expected 5", after);
+  check.expect(in_order, "gyro sample times not increasing");
+  check.expect(stamps_in_window, "a sample time outside its window (edge or CAN reception)");
+  check.expect(diag.has("no data-ready edge"), "the missing edges were not reported");
+  check.note("edge %.1f ms after the request; %d frames on CAN time before, %d after",
+             static_cast<double>(edge_t - asked) * 1e-6, before, after);
   return check.finish() == 0;
 }
 

@@ -25,6 +25,8 @@ struct GyroDataReadyStats {
 
 // The optional gyro data-ready input: each gyro frame gets the time of the rising edge that
 // preceded its reception, instead of the CAN reception time (bus and queueing latency removed).
+// Without a matching edge the reception time stays; the start and end of such an outage are
+// reported once each.
 class GyroDataReady final : public GyroTimeReference {
  public:
   GyroDataReady(const GyroDataReadyConfig& config, GpioApi& api = libgpiod_api(),
@@ -40,6 +42,8 @@ class GyroDataReady final : public GyroTimeReference {
   GyroDataReadyConfig config_;
   GpioApi& api_;
   Os& os_;
+  Diagnostics& diagnostics_;
+  bool missing_ = false;  // the last frame had no edge (reported once per outage)
   GpioLine line_;
   int event_fd_ = -1;
   static constexpr std::size_t kRing = 16;

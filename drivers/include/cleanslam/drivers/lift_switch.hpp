@@ -11,12 +11,10 @@
 
 namespace cleanslam::drivers {
 
-// What the firmware does when the robot is set down again (the driver only reports the edge).
-enum class SetDownPolicy : std::uint8_t { kRelocalize, kNewMap };
-
+// The driver only reports lifted / set down; what set-down means is the firmware's
+// robot.on_set_down (relocalize or a new map).
 struct LiftSwitchConfig {
   GpioLineConfig gpio;  // active level = lifted
-  SetDownPolicy on_set_down = SetDownPolicy::kRelocalize;
   // Edges within this time of an accepted change are bounce; the level is re-read after it.
   hal::TimeNs debounce_ns = 20 * hal::kNsPerMillisecond;
 };
@@ -40,7 +38,6 @@ class LiftSwitch final : public hal::SensorSource {
 
   [[nodiscard]] bool available() const { return line_.available(); }
   [[nodiscard]] bool lifted() const { return lifted_; }
-  [[nodiscard]] SetDownPolicy on_set_down() const { return config_.on_set_down; }
   [[nodiscard]] const LiftSwitchStats& stats() const { return stats_; }
 
  private:

@@ -39,6 +39,10 @@ class RobotDrivers {
   [[nodiscard]] CanBaseBoard* base_board() const { return base_board_.get(); }
   [[nodiscard]] V4l2Camera* camera() const { return camera_.get(); }
   [[nodiscard]] LiftSwitch* lift() const { return lift_.get(); }
+  [[nodiscard]] GyroDataReady* gyro_ready() const { return gyro_ready_.get(); }
+  // A configured GPIO input (lift switch, gyro data-ready) could not be had; the firmware runs
+  // without it. (A missing camera or CAN interface shows as the source's silence.)
+  [[nodiscard]] bool inputs_missing() const;
 
  private:
   std::unique_ptr<GyroDataReady> gyro_ready_;

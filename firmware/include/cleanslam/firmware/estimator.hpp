@@ -21,6 +21,10 @@ class Estimator {
  public:
   virtual ~Estimator() = default;
   virtual void reset(hal::TimeNs t_ns) = 0;
+  // Set down after a lift (the wheel-drop switch): by default a new map.
+  virtual void set_down(hal::TimeNs t_ns) { reset(t_ns); }
+  // The pose is not known (e.g. relocalizing after a set-down).
+  [[nodiscard]] virtual bool pose_lost() const { return false; }
   virtual void add_gyro(const hal::GyroSample& s) = 0;
   virtual void add_encoder(const hal::EncoderSample& s) = 0;
   // Dead reckoning up to t_ns folded into the filter (prediction). gyro_ok false: the gyro is

@@ -29,9 +29,19 @@ class StopSignals {
 
 enum class RunEnd { kStopped, kSourcesExhausted };
 
-// The robot: waits in ppoll() on the sources' descriptors until the next deadline, then iterates
-// on the monotonic clock.
-RunEnd run_live(Loop& loop, const hal::Clock& clock, const StopSignals& signals);
+// Work the live runner does after each loop iteration without blocking (the status LED).
+class LiveTask {
+ public:
+  virtual ~LiveTask() = default;
+  virtual void run(const Loop& loop, hal::TimeNs now) = 0;
+  // When run() is due again regardless of the loop, -1: after the loop's next iteration.
+  [[nodiscard]] virtual hal::TimeNs next_due_ns() const = 0;
+};
+
+// The robot: waits in ppoll() on the sources' descriptors until the next deadline (the loop's or
+// the task's), then iterates on the monotonic clock and runs the task.
+RunEnd run_live(Loop& loop, const hal::Clock& clock, const StopSignals& signals,
+                LiveTask* task = nullptr);
 
 // Datasets and logs on a virtual clock: the clock jumps to the next event or deadline. With
 // `realtime`, each jump waits for the same span of wall-clock time.

@@ -34,6 +34,8 @@ class SlamEstimator final : public Estimator {
   explicit SlamEstimator(const FirmwareConfig& config);
 
   void reset(hal::TimeNs t_ns) override;
+  void set_down(hal::TimeNs t_ns) override;  // set_down.cpp
+  [[nodiscard]] bool pose_lost() const override;
   void add_gyro(const hal::GyroSample& s) override;
   void add_encoder(const hal::EncoderSample& s) override;
   void predict(hal::TimeNs t_ns, bool gyro_ok) override;
@@ -83,6 +85,8 @@ class SlamEstimator final : public Estimator {
   std::array<hal::log::UpdateRecord, hal::kMaxFeaturesPerFrame> records_{};
   int record_count_ = 0;
   std::uint64_t image_frames_ = 0;
+  bool relocalizing_ = false;              // set down with robot.on_set_down: relocalize
+  std::uint64_t updates_at_set_down_ = 0;  // Ekf::counters().updates_applied then
 
   // Per-frame workspaces.
   static constexpr int kMaxObs = hal::kMaxObservationsPerFrame;
