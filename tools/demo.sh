@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
 # The main job on a PC: a simulated robot cleans a room, the firmware's own pipeline estimates its
 # path from the recorded sensors, and the evaluation says how far off SLAM and dead reckoning were.
-#   tools/demo.sh [SCENARIO]      default: default-room; results and plots in out/demo/
+#   tools/demo.sh [SCENARIO] [images|features]
+# default: default-room, rendered images through the whole front end (features: the simulator's
+# projected points with track ids, much faster); results and plots in out/demo/
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scenario=${1:-default-room}
+mode=${2:-images}
+case $mode in images | features) ;; *) echo "demo: mode must be images or features, not '$mode'" >&2; exit 2 ;; esac
 out=out/demo
 bin=build/host-release/bin
 
@@ -27,8 +31,8 @@ done
 
 rm -rf "$out"
 mkdir -p "$out"
-step "simulate: $scenario -> $out/dataset"
-"$bin/cleanslam-sim" "$scenario" "$out/dataset"
+step "simulate: $scenario ($mode) -> $out/dataset"
+"$bin/cleanslam-sim" "$scenario" "$out/dataset" --set "camera.mode=$mode"
 
 step "replay the dataset through the firmware pipeline -> $out/run"
 "$bin/cleanslam-replay" "$out/dataset" --out "$out/run"
