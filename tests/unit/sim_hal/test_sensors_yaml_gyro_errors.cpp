@@ -34,16 +34,16 @@ TEST(SensorsYamlGyroErrors, AbsentKeysAreZeroAndNotWritten) {
 }
 
 TEST(SensorsYamlGyroErrors, ANegativeValueIsAnErrorNamingLineAndKey) {
-  hal::Calibration cal;
-  cal.gyro.scale_error = 0.01;
-  std::string text = sensors_yaml_text(cal);
-  const auto pos = text.find("scale_error: ");
-  ASSERT_NE(pos, std::string::npos);
-  text.insert(pos + 13, "-");
+  // The gyro mapping is the document's last: the line appended belongs to it.
+  const std::string text = sensors_yaml_text(hal::Calibration{}) + "  scale_error: -0.01\n";
   const auto bad = parse_sensors_yaml(text, "s.yaml", nullptr);
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.error().find("gyro.scale_error"), std::string::npos) << bad.error();
   EXPECT_NE(bad.error().find("s.yaml:"), std::string::npos) << bad.error();
+  const auto good = parse_sensors_yaml(
+      sensors_yaml_text(hal::Calibration{}) + "  bias_walk: 0.001\n", "s.yaml", nullptr);
+  ASSERT_TRUE(good.ok()) << good.error();
+  EXPECT_DOUBLE_EQ(good->gyro.bias_walk, 0.001);
 }
 
 }  // namespace
