@@ -102,6 +102,8 @@ void read_calibration(Section c, hal::Calibration& cal) {
     Section g = c.sub("gyro");
     cal.gyro.noise_density = g.number("noise_density", cal.gyro.noise_density, 0.0, 1.0, true);
     cal.gyro.bias_instability = g.number("bias_instability", cal.gyro.bias_instability, 0.0, 1.0);
+    cal.gyro.scale_error = g.number("scale_error", cal.gyro.scale_error, 0.0, 1.0);
+    cal.gyro.bias_walk = g.number("bias_walk", cal.gyro.bias_walk, 0.0, 1.0);
     g.done();
   }
   c.done();
@@ -135,6 +137,8 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.gyro_scale_error = f.number("gyro_scale_error", x.gyro_scale_error, 0.0, 1.0);
     x.gyro_bias_state = f.flag("gyro_bias_state", x.gyro_bias_state);
     x.gyro_bias_walk = f.number("gyro_bias_walk", x.gyro_bias_walk, 0.0, 1.0);
+    x.gyro_errors_from_calibration =
+        f.flag("gyro_errors_from_calibration", x.gyro_errors_from_calibration);
     x.hold_heading_when_still = f.flag("hold_heading_when_still", x.hold_heading_when_still);
     x.reinit_behind_camera = f.flag("reinit_behind_camera", x.reinit_behind_camera);
     f.done();
@@ -375,6 +379,8 @@ std::string config_text(const FirmwareConfig& c) {
     << "  gyro_scale_error: " << fmt(f.gyro_scale_error) << "\n"
     << "  gyro_bias_state: " << (f.gyro_bias_state ? "true" : "false") << "\n"
     << "  gyro_bias_walk: " << fmt(f.gyro_bias_walk) << "\n"
+    << "  gyro_errors_from_calibration: " << (f.gyro_errors_from_calibration ? "true" : "false")
+    << "\n"
     << "  hold_heading_when_still: " << (f.hold_heading_when_still ? "true" : "false") << "\n"
     << "  reinit_behind_camera: " << (f.reinit_behind_camera ? "true" : "false") << "\n";
   s << "frontend:\n"

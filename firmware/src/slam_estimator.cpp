@@ -1,5 +1,6 @@
 #include "cleanslam/firmware/slam_estimator.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "cleanslam/firmware/program.hpp"
@@ -27,6 +28,9 @@ slam_core::EkfConfig ekf_config(const FirmwareConfig& c) {
   e.max_depth_m = c.filter.max_depth_m;
   e.gyro_bias_state = c.filter.gyro_bias_state;
   e.gyro_bias_walk = c.filter.gyro_bias_walk;
+  if (c.filter.gyro_errors_from_calibration) {
+    e.gyro_bias_walk = std::max(e.gyro_bias_walk, c.calibration.gyro.bias_walk);
+  }
   return e;
 }
 
@@ -39,6 +43,9 @@ slam_core::DeadReckoningConfig dead_reckoning_config(const FirmwareConfig& c) {
   d.gyro_bias_correlation_time_s = c.filter.gyro_bias_correlation_time_s;
   d.distance_scale_correlation_m = c.filter.distance_scale_correlation_m;
   d.gyro_scale_error = c.filter.gyro_scale_error;
+  if (c.filter.gyro_errors_from_calibration) {
+    d.gyro_scale_error = std::max(d.gyro_scale_error, c.calibration.gyro.scale_error);
+  }
   d.bias_in_state = c.filter.gyro_bias_state;
   d.hold_heading_when_still = c.filter.hold_heading_when_still;
   return d;

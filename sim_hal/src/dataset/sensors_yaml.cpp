@@ -118,6 +118,15 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
     yaml::MappingReader g = root.required_mapping("gyro");
     c.gyro.noise_density = g.required_double("noise_density");
     c.gyro.bias_instability = g.optional_double("bias_instability", c.gyro.bias_instability);
+    c.gyro.scale_error = g.optional_double("scale_error", c.gyro.scale_error);
+    c.gyro.bias_walk = g.optional_double("bias_walk", c.gyro.bias_walk);
+    for (const char* key : {"scale_error", "bias_walk"}) {
+      const yaml::Node* n = g.node(key);
+      auto v = n != nullptr ? yaml::as_double(*n, g.path(key)) : Result<double>(0.0);
+      if (v.ok() && !(*v >= 0.0 && *v <= 1.0)) {
+        diag.errors.push_back(n->location.str() + ": " + g.path(key) + ": must be within [0, 1]");
+      }
+    }
     g.report_unknown_keys();
   }
   root.report_unknown_keys();
@@ -175,6 +184,8 @@ std::string sensors_yaml_text(const hal::Calibration& c) {
   s += "gyro:\n";
   s += "  noise_density: " + format_double(c.gyro.noise_density) + "\n";
   s += "  bias_instability: " + format_double(c.gyro.bias_instability) + "\n";
+  if (c.gyro.scale_error > 0.0) s += "  scale_error: " + format_double(c.gyro.scale_error) + "\n";
+  if (c.gyro.bias_walk > 0.0) s += "  bias_walk: " + format_double(c.gyro.bias_walk) + "\n";
   return s;
 }
 

@@ -70,6 +70,8 @@ hal::Calibration calibration_of(const Scenario& sc) {
   // The filter reads bias_instability as the std. dev. of the bias it cannot estimate: the sim's
   // turn-on bias is never estimated (the robot starts moving), so it must be covered.
   cal.gyro.bias_instability = std::max({std::abs(sc.gyro.initial_bias), sc.gyro.bias_walk, 1e-6});
+  cal.gyro.scale_error = std::abs(sc.gyro.scale_error);
+  cal.gyro.bias_walk = sc.gyro.bias_walk;
   return cal;
 }
 

@@ -128,5 +128,24 @@ TEST(Config, SparseOdometryKeysParseAndAreRangeChecked) {
   EXPECT_NE(all.find("b.yaml:3: filter.gyro_bias_state"), std::string::npos) << all;
 }
 
+TEST(Config, GyroErrorsFromCalibrationKeysParseAndAreRangeChecked) {
+  const ConfigResult r = parse_config(
+      "calibration:\n  gyro:\n    scale_error: 0.02\n    bias_walk: 0.0005\n"
+      "filter:\n  gyro_errors_from_calibration: true\n",
+      "g.yaml", {});
+  ASSERT_TRUE(r.ok()) << joined(r.errors);
+  EXPECT_EQ(r.config.calibration.gyro.scale_error, 0.02);
+  EXPECT_EQ(r.config.calibration.gyro.bias_walk, 0.0005);
+  EXPECT_TRUE(r.config.filter.gyro_errors_from_calibration);
+  EXPECT_FALSE(FirmwareConfig{}.filter.gyro_errors_from_calibration);
+  const ConfigResult bad = parse_config(
+      "calibration:\n  gyro:\n    scale_error: 2\nfilter:\n  gyro_errors_from_calibration: 3\n",
+      "h.yaml", {});
+  ASSERT_EQ(bad.errors.size(), 2U) << joined(bad.errors);
+  const std::string all = joined(bad.errors);
+  EXPECT_NE(all.find("h.yaml:3: calibration.gyro.scale_error"), std::string::npos) << all;
+  EXPECT_NE(all.find("h.yaml:5: filter.gyro_errors_from_calibration"), std::string::npos) << all;
+}
+
 }  // namespace
 }  // namespace cleanslam

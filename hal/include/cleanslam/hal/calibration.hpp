@@ -32,6 +32,8 @@ struct WheelCalibration {
 struct GyroCalibration {
   double noise_density = 0.0005;
   double bias_instability = 0.0001;
+  double scale_error = 0.0;  // std. dev. of the rate scale factor error, 0: not stated
+  double bias_walk = 0.0;    // bias random walk, rad/s/sqrt(s), 0: not stated
 };
 
 struct Calibration {
