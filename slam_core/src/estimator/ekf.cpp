@@ -93,17 +93,26 @@ bool Ekf::valid_used_slot(int slot) const {
   return slot_used(slot);
 }
 
-double Ekf::relative_depth_std(int slot) const {
+bool Ekf::ray_to(int slot, Eigen::Vector3d& u, double& depth) const {
   if (!slot_used(slot)) {
+    return false;
+  }
+  const Eigen::Vector3d d = x_.segment<3>(row_of(slot)) - x_.head<3>();
+  depth = d.norm();
+  if (!(depth > 0.0)) {
+    return false;
+  }
+  u = d / depth;
+  return true;
+}
+
+double Ekf::relative_depth_std(int slot) const {
+  Eigen::Vector3d u;
+  double depth = 0.0;
+  if (!ray_to(slot, u, depth)) {
     return -1.0;
   }
   const int lm = row_of(slot);
-  const Eigen::Vector3d d = x_.segment<3>(lm) - x_.head<3>();
-  const double depth = d.norm();
-  if (!(depth > 0.0)) {
-    return -1.0;
-  }
-  const Eigen::Vector3d u = d / depth;
   // Var of u^T (y - p): P_yy - P_yp - P_py + P_pp.
   const Eigen::Matrix3d Prel = P_.block<3, 3>(lm, lm) - P_.block<3, 3>(lm, 0) -
                                P_.block<3, 3>(0, lm) + P_.topLeftCorner<3, 3>();
@@ -111,16 +120,12 @@ double Ekf::relative_depth_std(int slot) const {
 }
 
 double Ekf::depth_std_given_pose(int slot) const {
-  if (!slot_used(slot)) {
+  Eigen::Vector3d u;
+  double depth = 0.0;
+  if (!ray_to(slot, u, depth)) {
     return -1.0;
   }
   const int lm = row_of(slot);
-  const Eigen::Vector3d d = x_.segment<3>(lm) - x_.head<3>();
-  const double depth = d.norm();
-  if (!(depth > 0.0)) {
-    return -1.0;
-  }
-  const Eigen::Vector3d u = d / depth;
   // Var of u^T y given the pose: the Schur complement P_yy - P_yx P_xx^-1 P_xy.
   const Eigen::Matrix<double, 6, 1> Pxy_u = P_.block<6, 3>(0, lm) * u;
   const Eigen::LDLT<Matrix6d> ldlt(P_.topLeftCorner<6, 6>());

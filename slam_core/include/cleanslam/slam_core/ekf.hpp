@@ -142,6 +142,8 @@ class Ekf {
   // With EkfConfig::gyro_bias_state, slot 0 is reserved: its first row holds the bias.
   static constexpr int kBiasRow = hal::kPoseDim;
   [[nodiscard]] bool valid_used_slot(int slot) const;
+  // Unit vector from the camera to the landmark and its length; false for an unused slot.
+  bool ray_to(int slot, Eigen::Vector3d& u, double& depth) const;
   int take_slot();
   void recompute_active_dim();
   ObservationResult measure(const Observation& o, Eigen::Vector3d& z, Eigen::Matrix3d& R,
