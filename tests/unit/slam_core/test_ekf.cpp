@@ -8,6 +8,7 @@
 #include "cleanslam/slam_core/camera_frame_measurement.hpp"
 #include "cleanslam/slam_core/ekf.hpp"
 #include "cleanslam/slam_core/prediction_model.hpp"
+#include "ekf_dense_reference.hpp"
 
 namespace cs = cleanslam::slam_core;
 namespace hal = cleanslam::hal;
@@ -151,29 +152,12 @@ TEST_F(EkfTest, BatchJosephUpdateMatchesDenseTextbookUpdate) {
   const int n = ekf_->active_dim();
   const Eigen::MatrixXd P = ekf_->covariance().topLeftCorner(n, n);
   const Eigen::VectorXd x = ekf_->state().head(n);
-  const cs::EkfConfig& c = ekf_->config();
   // Dense reference: eq. 10-27 with the full H.
   const int m = 6;
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3 * m, n);
-  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(3 * m, 3 * m);
-  Eigen::VectorXd nu(3 * m);
-  for (int i = 0; i < m; ++i) {
-    const cs::Observation& o = obs[static_cast<std::size_t>(i)];
-    Eigen::Vector2d nrm;
-    ASSERT_TRUE(ekf_->camera().undistort(o.u_px, o.v_px, nrm));
-    const Eigen::Vector3d ct = cs::CameraModel::ray(nrm);
-    const Eigen::Vector3d y = x.segment<3>(6 + 3 * o.slot);
-    const Eigen::Vector3d h = cs::predict_camera_point(x.head<6>(), y);
-    const double d = h.dot(ct.normalized());
-    nu.segment<3>(3 * i) = cs::point_at_depth(ct, d) - h;
-    R.block<3, 3>(3 * i, 3 * i) = cs::measurement_covariance(
-        ct, c.eps_ct_m, cs::normal_noise(d, c.eps_trk_px, c.eps_cal_px, 280.0));
-    Eigen::Matrix<double, 3, 6> Hp;
-    Eigen::Matrix3d Hl;
-    cs::measurement_jacobian(x.head<6>(), y, Hp, Hl);
-    H.block<3, 6>(3 * i, 0) = Hp;
-    H.block<3, 3>(3 * i, 6 + 3 * o.slot) = Hl;
-  }
+  Eigen::MatrixXd H;
+  Eigen::MatrixXd R;
+  Eigen::VectorXd nu;
+  ASSERT_TRUE(cleanslam::test::stack_observations(*ekf_, obs.data(), m, nu, R, H));
   const Eigen::MatrixXd S = H * P * H.transpose() + R;
   const Eigen::MatrixXd K = P * H.transpose() * S.inverse();
   const Eigen::MatrixXd IKH = Eigen::MatrixXd::Identity(n, n) - K * H;

@@ -8,6 +8,7 @@
 #include "cleanslam/slam_core/camera_frame_measurement.hpp"
 #include "cleanslam/slam_core/ekf.hpp"
 #include "cleanslam/slam_core/prediction_model.hpp"
+#include "ekf_dense_reference.hpp"
 
 // The consider (Schmidt) update of young landmarks and the depth bounds of an update.
 namespace cs = cleanslam::slam_core;
@@ -49,27 +50,10 @@ void dense_update(const cs::Ekf& ekf, const cs::Observation* obs, int m,
   const int n = ekf.active_dim();
   const Eigen::MatrixXd P = ekf.covariance().topLeftCorner(n, n);
   const Eigen::VectorXd x = ekf.state().head(n);
-  const cs::EkfConfig& c = ekf.config();
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3 * m, n);
-  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(3 * m, 3 * m);
-  Eigen::VectorXd nu(3 * m);
-  for (int i = 0; i < m; ++i) {
-    const cs::Observation& o = obs[i];
-    Eigen::Vector2d nrm;
-    ASSERT_TRUE(ekf.camera().undistort(o.u_px, o.v_px, nrm));
-    const Eigen::Vector3d ct = cs::CameraModel::ray(nrm);
-    const Eigen::Vector3d y = x.segment<3>(6 + 3 * o.slot);
-    const Eigen::Vector3d h = cs::predict_camera_point(x.head<6>(), y);
-    const double d = h.dot(ct.normalized());
-    nu.segment<3>(3 * i) = cs::point_at_depth(ct, d) - h;
-    R.block<3, 3>(3 * i, 3 * i) = cs::measurement_covariance(
-        ct, c.eps_ct_m, cs::normal_noise(d, c.eps_trk_px, c.eps_cal_px, 280.0));
-    Eigen::Matrix<double, 3, 6> Hp;
-    Eigen::Matrix3d Hl;
-    cs::measurement_jacobian(x.head<6>(), y, Hp, Hl);
-    H.block<3, 6>(3 * i, 0) = Hp;
-    H.block<3, 3>(3 * i, 6 + 3 * o.slot) = Hl;
-  }
+  Eigen::MatrixXd H;
+  Eigen::MatrixXd R;
+  Eigen::VectorXd nu;
+  ASSERT_TRUE(cleanslam::test::stack_observations(ekf, obs, m, nu, R, H));
   const Eigen::MatrixXd S = H * P * H.transpose() + R;
   Eigen::MatrixXd K = P * H.transpose() * S.inverse();
   for (int i = 0; i < m; ++i) {
