@@ -155,6 +155,10 @@ const char* to_string(hal::log::UpdateStatus s) {
       return "skipped";
     case hal::log::UpdateStatus::kNoSlot:
       return "no_slot";
+    case hal::log::UpdateStatus::kMerged:
+      return "merged";
+    case hal::log::UpdateStatus::kMergeGated:
+      return "merge_gated";
   }
   return "?";
 }

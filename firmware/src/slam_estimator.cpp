@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include "cleanslam/firmware/program.hpp"
 #include "cleanslam/slam_core/camera_model.hpp"
 #include "cleanslam/slam_core/geometry.hpp"
@@ -80,6 +82,7 @@ SlamEstimator::SlamEstimator(const FirmwareConfig& config)
       adapter_(ekf_),
       camera_offset_ns_(hal::from_seconds(config.calibration.camera.time_offset_s)) {
   slot_owner_.fill(-1);
+  merge_target_.fill(-1);
   ekf_.set_update_step(static_cast<std::int64_t>(config.loop.frame_work_budget) *
                        kUpdateWorkPerUnit);
 }
@@ -91,6 +94,7 @@ void SlamEstimator::reset(hal::TimeNs /*t_ns*/) {
       slam_core::camera_pose_from_body_pose(slam_core::Vector6d::Zero(), ekf_.camera());
   ekf_.reset(cam, slam_core::Matrix6d::Identity() * 1e-10);
   slot_owner_.fill(-1);
+  merge_target_.fill(-1);
   pipeline_->forget_map();
   predicted_to_ns_ = -1;
   frame_done_ = true;
@@ -164,6 +168,7 @@ bool SlamEstimator::step_frame(int& budget) {
   }
   fusing_ = false;
   record_features_update();
+  merge_remapped();
   initialize_features();
   frame_done_ = true;
   return true;
@@ -211,7 +216,8 @@ bool SlamEstimator::associate_features() {
       continue;
     }
     const int slot = slot_of(f.track_id);
-    if (slot < 0) {
+    if (slot < 0 || needs_remap(slot)) {
+      remap_of_[static_cast<std::size_t>(fresh)] = slot;
       new_feature_[static_cast<std::size_t>(fresh++)] = i;
       continue;
     }
@@ -221,6 +227,7 @@ bool SlamEstimator::associate_features() {
       // Seen, so in front: the landmark's estimate is wrong, a new one starts from this ray.
       ekf_.delete_landmark(slot);
       slot_owner_[static_cast<std::size_t>(slot)] = -1;
+      remap_of_[static_cast<std::size_t>(fresh)] = -1;
       new_feature_[static_cast<std::size_t>(fresh++)] = i;
       continue;
     }
@@ -315,7 +322,60 @@ void SlamEstimator::initialize_features() {
     }
     --budget;
     slot_owner_[static_cast<std::size_t>(slot)] = f.track_id;
+    const int earlier = remap_of_[static_cast<std::size_t>(j)];
+    if (earlier >= 0 && earlier != slot && ekf_.slot_used(earlier)) {
+      slot_owner_[static_cast<std::size_t>(earlier)] = -1;
+      merge_target_[static_cast<std::size_t>(slot)] = earlier;
+    }
     record(f, lf::UpdateStatus::kInitialized, slot);
+  }
+}
+
+bool SlamEstimator::needs_remap(int slot) const {
+  const double limit = config_.filter.remap_pixel_std_px;
+  if (!(limit > 0.0) || merge_target_[static_cast<std::size_t>(slot)] >= 0) {
+    return false;
+  }
+  slam_core::PixelPrediction pp;
+  if (!ekf_.predict_pixel(slot, pp) || !pp.in_front) {
+    return true;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(pp.S, Eigen::EigenvaluesOnly);
+  return !(std::sqrt(std::max(0.0, eig.eigenvalues()(1))) <= limit);
+}
+
+// A remapped landmark joins its earlier entry once its depth relative to the camera has converged
+// (the young test's fraction) or its track was not in this frame.
+void SlamEstimator::merge_remapped() {
+  for (int s = 0; s < hal::kMaxLandmarks; ++s) {
+    const auto ss = static_cast<std::size_t>(s);
+    const int earlier = merge_target_[ss];
+    if (earlier < 0) {
+      continue;
+    }
+    if (!ekf_.slot_used(s) || !ekf_.slot_used(earlier)) {
+      merge_target_[ss] = -1;
+      continue;
+    }
+    bool seen = false;
+    for (int i = 0; i < obs_count_; ++i) {
+      seen = seen || obs_[static_cast<std::size_t>(i)].slot == s;
+    }
+    const double rel = ekf_.relative_depth_std(s);
+    if (seen && !(rel >= 0.0 && rel < config_.filter.young_depth_std_fraction)) {
+      continue;
+    }
+    const std::int64_t track = slot_owner_[ss];
+    merge_target_[ss] = -1;
+    const hal::FeatureObservation f{track, 0.0, 0.0};
+    if (ekf_.merge_landmarks(earlier, s) == slam_core::ObservationResult::kFused) {
+      slot_owner_[static_cast<std::size_t>(earlier)] = track;
+      slot_owner_[ss] = -1;
+      record(f, lf::UpdateStatus::kMerged, earlier);
+    } else {
+      ekf_.delete_landmark(earlier);
+      record(f, lf::UpdateStatus::kMergeGated, s);
+    }
   }
 }
 

@@ -84,6 +84,7 @@ struct EkfRun {
   int updates_applied = 0;
   int initialized = 0;
   int continued = 0;  // continue_update() calls of chunked updates
+  int merged = 0;     // a landmark's duplicate merged back (Ekf::merge_landmarks)
   bool finite = true;
 
   void operator()() {
@@ -132,6 +133,18 @@ struct EkfRun {
       if (step % 50 == 49) {
         ekf->delete_landmark(step % hal::kMaxLandmarks);
       }
+      // A duplicate of a landmark in view, from its predicted pixel, merged back into it.
+      if (step % 9 == 5 && m > 0 && !ekf->update_pending()) {
+        cs::PixelPrediction p;
+        const int slot = obs[0].slot;
+        if (ekf->predict_pixel(slot, p)) {
+          const int dup = ekf->initialize_landmark(p.uv.x(), p.uv.y());
+          if (dup >= 0 && dup != slot &&
+              ekf->merge_landmarks(slot, dup) == cs::ObservationResult::kFused) {
+            ++merged;
+          }
+        }
+      }
       const hal::PoseEstimate e = ekf->body_pose_estimate(step);
       finite = finite && std::isfinite(e.position_m[0]);
     }
@@ -156,6 +169,7 @@ TEST(EstimatorAllocation, EkfLongRunAllocatesNothing) {
   EXPECT_GT(run.initialized, hal::kMaxLandmarks);  // the pool was full and recycled
   EXPECT_GT(ekf->counters().landmarks_replaced, 0U);
   EXPECT_GT(run.updates_applied, 50);
+  EXPECT_GT(run.merged, 5);
   EXPECT_TRUE(run.finite);
   EXPECT_TRUE(ekf->state().allFinite());
   EXPECT_EQ(run.continued, 0);

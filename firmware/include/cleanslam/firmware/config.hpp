@@ -41,6 +41,11 @@ struct FilterSettings {
   bool hold_heading_when_still = true;
   // A tracked feature whose landmark is predicted behind the camera re-initializes the landmark.
   bool reinit_behind_camera = false;
+  // Re-sighting with the pose lost: a tracked landmark whose predicted pixel std. dev. exceeds
+  // this (or that is predicted behind the camera) is mapped again from its ray and merged into
+  // its earlier entry (slam_core::Ekf::merge_landmarks) once its depth has converged or its track
+  // ends; 0: off.
+  double remap_pixel_std_px = 0.0;
 };
 
 struct FrontendSettings {

@@ -57,6 +57,11 @@ class SlamEstimator final : public Estimator {
   bool associate_features();
   void record_features_update();
   void initialize_features();
+  // The features path's relocalization (filter.remap_pixel_std_px): a re-sighted landmark whose
+  // prediction is useless is mapped again; its earlier entry is merged in once the new one's
+  // depth has converged or its track ended.
+  [[nodiscard]] bool needs_remap(int slot) const;
+  void merge_remapped();
   void collect_image_records();
   int slot_of(std::int64_t track_id) const;
   void record(const hal::FeatureObservation& f, hal::log::UpdateStatus status, int slot);
@@ -73,6 +78,7 @@ class SlamEstimator final : public Estimator {
   hal::TimeNs camera_offset_ns_ = 0;
   hal::TimeNs predicted_to_ns_ = -1;
   std::array<std::int64_t, hal::kMaxLandmarks> slot_owner_{};  // track id per slot, -1: free
+  std::array<int, hal::kMaxLandmarks> merge_target_{};  // earlier entry of a remapped slot, -1
 
   hal::CameraFrame frame_;
   bool frame_done_ = true;
@@ -98,6 +104,7 @@ class SlamEstimator final : public Estimator {
   std::array<double, 2 * kMaxObs> nu_{};
   std::array<double, 4 * kMaxObs * kMaxObs> S_{};
   std::array<int, hal::kMaxFeaturesPerFrame> new_feature_{};
+  std::array<int, hal::kMaxFeaturesPerFrame> remap_of_{};  // per new feature: its earlier slot
 };
 
 }  // namespace cleanslam::firmware

@@ -58,6 +58,8 @@ enum class UpdateStatus : std::uint8_t {
   kRejected = 3,     // non-finite or outside the image
   kSkipped = 4,      // no update: too few inliers or standing still
   kNoSlot = 5,       // map full, not initialized
+  kMerged = 6,       // a landmark mapped again merged into its earlier entry (slot: that entry)
+  kMergeGated = 7,   // the same refused by the merge's gate: the earlier entry was deleted
 };
 
 struct UpdateRecord {

@@ -43,6 +43,8 @@ struct EkfCounters {
   std::uint64_t landmarks_replaced = 0;
   std::uint64_t landmarks_deleted = 0;
   std::uint64_t consider_observations = 0;  // fused with the consider (Schmidt) gain
+  std::uint64_t landmarks_merged = 0;
+  std::uint64_t merges_gated = 0;
 };
 
 class Ekf {
@@ -70,6 +72,12 @@ class Ekf {
   int initialize_landmark(double u_px, double v_px, double depth_m, double eps_ct_m);
 
   void delete_landmark(int slot);
+
+  // Two slots that hold the same point (a landmark mapped again after the pose was lost, and its
+  // earlier map entry): the linear update with the constraint y_keep - y_drop = 0 (std. dev.
+  // merge_std_m per axis), gated at gate_chi2 on its 3 dof, then drop is deleted. kFused when
+  // merged; kGate, kNotPositiveDefinite or kInvalidSlot (nothing changed) otherwise.
+  ObservationResult merge_landmarks(int keep, int drop, double merge_std_m = 0.01);
 
   // Per-observation gates (3-D and pixel), then one batch Joseph-form update of the survivors (eq.
   // 25-27). With a step budget (set_update_step) the update may return still pending: the status

@@ -1,0 +1,58 @@
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+#include "cleanslam/slam_core/ekf.hpp"
+
+namespace cleanslam::slam_core {
+
+// z = y_keep - y_drop = 0 with H = [.. I .. -I ..]: exactly linear, so the update's only error is
+// in the covariance the two estimates carry. P H^T is the difference of two column blocks.
+ObservationResult Ekf::merge_landmarks(int keep, int drop, double merge_std_m) {
+  finish_update();
+  if (!valid_used_slot(keep) || !valid_used_slot(drop) || keep == drop || !(merge_std_m >= 0.0) ||
+      !std::isfinite(merge_std_m)) {
+    return ObservationResult::kInvalidSlot;
+  }
+  const int n = active_dim_;
+  const int a = row_of(keep);
+  const int b = row_of(drop);
+  auto PHt = PHt_.topLeftCorner(n, 3);
+  PHt = P_.block(0, a, n, 3) - P_.block(0, b, n, 3);
+  Eigen::Matrix3d S = PHt.middleRows<3>(a) - PHt.middleRows<3>(b);
+  S = (0.5 * (S + S.transpose())).eval();
+  S.diagonal().array() += merge_std_m * merge_std_m;
+  const Eigen::LLT<Eigen::Matrix3d> llt(S);
+  if (llt.info() != Eigen::Success) {
+    return ObservationResult::kNotPositiveDefinite;
+  }
+  const Eigen::Vector3d nu = x_.segment<3>(b) - x_.segment<3>(a);
+  if (!(nu.dot(llt.solve(nu)) <= config_.gate_chi2)) {
+    ++counters_.merges_gated;
+    return ObservationResult::kGate;
+  }
+  const Eigen::Matrix3d Sinv = llt.solve(Eigen::Matrix3d::Identity());
+  auto K = W_.topLeftCorner(n, 3);
+  K.noalias() = PHt.lazyProduct(Sinv);
+  for (int i = 0; i < n; ++i) {
+    if (i >= hal::kPoseDim && !used_[static_cast<std::size_t>((i - hal::kPoseDim) / 3)]) {
+      continue;
+    }
+    const double d = P_(i, i) - K.row(i).dot(PHt.row(i));
+    if (!(d > config_.min_variance)) {
+      return ObservationResult::kNotPositiveDefinite;
+    }
+  }
+  x_.head(n).noalias() += K * nu;
+  x_(3) = wrap_angle(x_(3));
+  x_(5) = wrap_angle(x_(5));
+  for (int j = 0; j < n; ++j) {
+    P_.col(j).segment(j, n - j).noalias() -= K.bottomRows(n - j) * PHt.row(j).transpose();
+    P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
+  }
+  ++counters_.landmarks_merged;
+  delete_landmark(drop);
+  return ObservationResult::kFused;
+}
+
+}  // namespace cleanslam::slam_core

@@ -1,0 +1,60 @@
+#include <gtest/gtest.h>
+
+#include "feature_run.hpp"
+
+// filter.remap_pixel_std_px: a re-sighted landmark whose predicted pixel is too uncertain to
+// linearize about is mapped again from its ray; the new entry is merged into the earlier one when
+// its track ends (or its depth has converged).
+namespace firmware = cleanslam::firmware;
+namespace hal = cleanslam::hal;
+namespace lf = cleanslam::hal::log;
+
+namespace {
+
+constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
+
+// Driving at 0.2 m/s.
+cleanslam::test::FeatureRun remap_run(double remap_px) {
+  firmware::FirmwareConfig c;
+  c.filter.remap_pixel_std_px = remap_px;
+  return {c, 0.2};
+}
+
+}  // namespace
+
+TEST(SlamEstimatorRemap, AnUncertainReSightingIsMappedAgainAndMergedWhenItsTrackEnds) {
+  // A limit far below any prediction's std. dev.: every re-sighting is remapped.
+  auto run = remap_run(0.01);
+  auto r = run.frame(500 * kMs, {{7, 100.0, 119.5}});
+  ASSERT_EQ(r.size(), 1U);
+  ASSERT_EQ(r[0].status, lf::UpdateStatus::kInitialized);
+  const int first = r[0].slot;
+  r = run.frame(1000 * kMs, {{7, 98.0, 119.5}});
+  ASSERT_EQ(r.size(), 1U);
+  EXPECT_EQ(r[0].status, lf::UpdateStatus::kInitialized);
+  const int second = r[0].slot;
+  ASSERT_NE(second, first);
+  EXPECT_EQ(run.estimator.ekf().landmark_count(), 2);
+  // Track 7 is gone: its new entry joins the earlier one, which owns track 7 again.
+  r = run.frame(1500 * kMs, {{8, 250.0, 119.5}});
+  ASSERT_EQ(r.size(), 2U);
+  EXPECT_EQ(r[0].status, lf::UpdateStatus::kMerged);
+  EXPECT_EQ(r[0].track_id, 7);
+  EXPECT_EQ(r[0].slot, first);
+  EXPECT_EQ(r[1].status, lf::UpdateStatus::kInitialized);
+  EXPECT_TRUE(r[1].slot == second || !run.estimator.ekf().slot_used(second));
+  EXPECT_EQ(run.estimator.ekf().landmark_count(), 2);
+  EXPECT_EQ(run.estimator.ekf().counters().landmarks_merged, 1U);
+}
+
+TEST(SlamEstimatorRemap, OffByDefaultTheReSightingUpdatesTheSameSlot) {
+  auto run = remap_run(0.0);
+  auto r = run.frame(500 * kMs, {{7, 100.0, 119.5}});
+  ASSERT_EQ(r.size(), 1U);
+  const int first = r[0].slot;
+  r = run.frame(1000 * kMs, {{7, 98.0, 119.5}});
+  ASSERT_EQ(r.size(), 1U);
+  EXPECT_EQ(r[0].slot, first);
+  EXPECT_NE(r[0].status, lf::UpdateStatus::kInitialized);
+  EXPECT_EQ(run.estimator.ekf().landmark_count(), 1);
+}

@@ -1,0 +1,112 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <Eigen/Dense>
+
+#include "cleanslam/slam_core/ekf.hpp"
+
+// Ekf::merge_landmarks: the linear constraint y_keep - y_drop = 0 against a dense Kalman update.
+namespace cs = cleanslam::slam_core;
+namespace hal = cleanslam::hal;
+
+namespace {
+
+class EkfMergeTest : public ::testing::Test {
+ protected:
+  EkfMergeTest() : ekf_(calibration_, cs::EkfConfig{}) {
+    cs::Matrix6d P0 = cs::Matrix6d::Identity() * 1e-3;
+    P0(5, 5) = 0.04;
+    P0(0, 5) = P0(5, 0) = 0.002;
+    cs::Vector6d pose = cs::Vector6d::Zero();
+    pose << 0.3, -0.2, 0.1, 0.0, 0.0, 0.4;
+    ekf_.reset(pose, P0);
+  }
+
+  hal::Calibration calibration_;
+  cs::Ekf ekf_;
+};
+
+TEST_F(EkfMergeTest, EqualsTheDenseKalmanUpdateAndFreesTheDroppedSlot) {
+  const int keep = ekf_.initialize_landmark(140.0, 110.0, 2.0, 0.3);
+  const int other = ekf_.initialize_landmark(250.0, 60.0);
+  const int drop = ekf_.initialize_landmark(141.5, 109.0);  // the same point, depth unknown
+  ASSERT_GE(keep, 0);
+  ASSERT_GE(other, 0);
+  ASSERT_GE(drop, 0);
+  const int n = ekf_.active_dim();
+  const Eigen::VectorXd x = ekf_.state().head(n);
+  const Eigen::MatrixXd P = ekf_.covariance().topLeftCorner(n, n);
+  const double r = 0.01;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3, n);
+  H.middleCols<3>(6 + 3 * keep).setIdentity();
+  H.middleCols<3>(6 + 3 * drop) = -Eigen::Matrix3d::Identity();
+  const Eigen::MatrixXd S = H * P * H.transpose() + r * r * Eigen::MatrixXd::Identity(3, 3);
+  const Eigen::MatrixXd K = P * H.transpose() * S.inverse();
+  const Eigen::VectorXd x_ref = x + K * (-(H * x));
+  const Eigen::MatrixXd P_ref = P - K * S * K.transpose();
+
+  ASSERT_EQ(ekf_.merge_landmarks(keep, drop, r), cs::ObservationResult::kFused);
+  EXPECT_FALSE(ekf_.slot_used(drop));
+  EXPECT_TRUE(ekf_.slot_used(keep));
+  EXPECT_TRUE(ekf_.slot_used(other));
+  EXPECT_EQ(ekf_.landmark_count(), 2);
+  EXPECT_EQ(ekf_.counters().landmarks_merged, 1U);
+  const Eigen::VectorXd x_after = ekf_.state().head(n);
+  const Eigen::MatrixXd P_after = ekf_.covariance().topLeftCorner(n, n);
+  const int d = 6 + 3 * drop;
+  for (int i = 0; i < n; ++i) {
+    if (i >= d && i < d + 3) {
+      EXPECT_EQ(x_after(i), 0.0);
+      continue;
+    }
+    EXPECT_NEAR(x_after(i), x_ref(i), 1e-9 * (1.0 + std::abs(x_ref(i)))) << "row " << i;
+    for (int j = 0; j < n; ++j) {
+      if (j >= d && j < d + 3) {
+        EXPECT_EQ(P_after(i, j), 0.0);
+        continue;
+      }
+      EXPECT_NEAR(P_after(i, j), P_ref(i, j), 1e-9 * (1.0 + std::abs(P_ref(i, j))))
+          << i << "," << j;
+    }
+  }
+  EXPECT_EQ((P_after - P_after.transpose()).cwiseAbs().maxCoeff(), 0.0);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(P_after);
+  EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-12);
+  // The kept landmark now has the smaller uncertainty of the two along the dropped one's ray.
+  const int k = 6 + 3 * keep;
+  const double before = P.block(k, k, 3, 3).trace();
+  EXPECT_LT(ekf_.landmark_covariance(keep).trace(), before);
+}
+
+TEST_F(EkfMergeTest, TwoDifferentPointsAreGatedAndNothingChanges) {
+  const int a = ekf_.initialize_landmark(100.0, 120.0, 2.0, 0.05);
+  const int b = ekf_.initialize_landmark(220.0, 120.0, 2.0, 0.05);  // about 1 m away from a
+  ASSERT_GE(a, 0);
+  ASSERT_GE(b, 0);
+  const Eigen::VectorXd x = ekf_.state();
+  const Eigen::MatrixXd P = ekf_.covariance();
+  EXPECT_EQ(ekf_.merge_landmarks(a, b), cs::ObservationResult::kGate);
+  EXPECT_EQ(ekf_.counters().merges_gated, 1U);
+  EXPECT_EQ(ekf_.counters().landmarks_merged, 0U);
+  EXPECT_EQ(ekf_.landmark_count(), 2);
+  EXPECT_TRUE(ekf_.state() == x);
+  EXPECT_TRUE(ekf_.covariance() == P);
+}
+
+TEST_F(EkfMergeTest, UnusedOrEqualSlotsAndBadNoiseAreRefused) {
+  const int a = ekf_.initialize_landmark(100.0, 120.0);
+  ASSERT_GE(a, 0);
+  EXPECT_EQ(ekf_.merge_landmarks(a, a), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf_.merge_landmarks(a, a + 1), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf_.merge_landmarks(-1, a), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf_.merge_landmarks(a, hal::kMaxLandmarks), cs::ObservationResult::kInvalidSlot);
+  const int b = ekf_.initialize_landmark(101.0, 120.0);
+  ASSERT_GE(b, 0);
+  const Eigen::VectorXd x2 = ekf_.state();
+  EXPECT_EQ(ekf_.merge_landmarks(a, b, std::nan("")), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf_.merge_landmarks(a, b, -1.0), cs::ObservationResult::kInvalidSlot);
+  EXPECT_TRUE(ekf_.state() == x2);
+  EXPECT_EQ(ekf_.landmark_count(), 2);
+}
+
+}  // namespace
