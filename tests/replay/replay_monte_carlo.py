@@ -110,8 +110,10 @@ p = run("monte_carlo.py", "default-room", "--runs", "0")
 check(p.returncode == 2, f"--runs 0: exit {p.returncode}")
 
 # Scenario table: two configurations, Markdown.
+table_out = os.path.join(work, "table")
 p = run("scenario_table.py", "--seeds", "1-2", "--sim-set", "duration_s=60", "--config",
-        "defaults", "--config", "gate1:frontend.min_inliers=1,filter.eps_ct_m=100")
+        "defaults", "--config", "gate1:frontend.min_inliers=1,filter.eps_ct_m=100", "--out",
+        table_out)
 check(p.returncode == 0, f"scenario_table exit status {p.returncode}")
 check("| seed | path m | DR ATE m | SLAM ATE m (defaults) | NEES (defaults) | "
       "SLAM ATE m (gate1) | NEES (gate1) |" in p.stdout, "table header")
@@ -124,6 +126,41 @@ p = run("scenario_table.py", "--seeds", "1", "--sim-set", "duration_s=30", "--co
 check(p.returncode == 1 and "FAILED" in p.stdout, f"table bad key: exit {p.returncode}")
 p = run("scenario_table.py", "--config", "bad name:a=1")
 check(p.returncode == 2, f"table bad config name: exit {p.returncode}")
+
+# sighting_bound.py: its DR ATE is cleanslam-eval's; restarted from the truth at every sighting
+# dead reckoning does better; with a perfect dead reckoner both are zero.
+ds = os.path.join(table_out, "sparse-poor-odometry_seed_1", "dataset")
+rd = os.path.join(table_out, "sparse-poor-odometry_seed_1", "run_defaults")
+bound_cmd = [sys.executable, os.path.join(EVAL, "sighting_bound.py"), ds, rd, "--json"]
+p = subprocess.run(bound_cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                   check=False)
+check(p.returncode == 0, f"sighting_bound exit {p.returncode}: {p.stderr}")
+if p.returncode == 0:
+    b = json.loads(p.stdout)
+    ev = subprocess.run([*emulator.split(), os.path.join(bin_dir, "cleanslam-eval"), "--gt",
+                         os.path.join(ds, "groundtruth.csv"), "--est",
+                         os.path.join(rd, "dead_reckoning.tum"), "--json"],
+                        stdout=subprocess.PIPE, text=True, check=False)
+    ate = json.loads(ev.stdout)["ate_rmse_m"] if ev.returncode == 0 else float("nan")
+    check(abs(b["dr_ate_m"] - ate) <= 0.02 * ate + 1e-3, f"bound's DR ATE {b} vs eval {ate}")
+    check(0.0 <= b["bound_ate_m"] < b["dr_ate_m"], f"bound not below DR: {b}")
+perfect = os.path.join(work, "perfect_dr")
+os.makedirs(perfect, exist_ok=True)
+with open(os.path.join(ds, "groundtruth.csv"), encoding="utf-8") as f, \
+        open(os.path.join(perfect, "dead_reckoning.tum"), "w", encoding="utf-8") as out:
+    for i, line in enumerate(f):
+        if not line.startswith("#") and i % 50 == 1:
+            t, x, y, z, qw, qx, qy, qz = line.strip().split(",")
+            out.write(f"{int(t) * 1e-9:.9f} {x} {y} {z} {qx} {qy} {qz} {qw}\n")
+p = subprocess.run([sys.executable, os.path.join(EVAL, "sighting_bound.py"), ds, perfect,
+                    "--json"], stdout=subprocess.PIPE, text=True, check=False)
+b = json.loads(p.stdout) if p.returncode == 0 else {}
+check(b.get("dr_ate_m", 1.0) < 1e-6 and b.get("bound_ate_m", 1.0) < 1e-6,
+      f"perfect dead reckoning: {b}")
+p = subprocess.run([sys.executable, os.path.join(EVAL, "sighting_bound.py"), ds,
+                    os.path.join(work, "no_such_run")], stderr=subprocess.PIPE, text=True,
+                   check=False)
+check(p.returncode == 1 and "dead_reckoning.tum" in p.stderr, f"missing run: {p.returncode}")
 
 print(f"{len(failures)} failure(s)" if failures else "all checks passed", file=sys.stderr)
 sys.exit(1 if failures else 0)
