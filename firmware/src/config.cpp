@@ -142,6 +142,7 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.hold_heading_when_still = f.flag("hold_heading_when_still", x.hold_heading_when_still);
     x.reinit_behind_camera = f.flag("reinit_behind_camera", x.reinit_behind_camera);
     x.remap_pixel_std_px = f.number("remap_pixel_std_px", x.remap_pixel_std_px, 0.0, 1e4);
+    x.remap_merge_gate_chi2 = f.number("remap_merge_gate_chi2", x.remap_merge_gate_chi2, 0.0, 1e6);
     f.done();
   }
   {
@@ -384,7 +385,8 @@ std::string config_text(const FirmwareConfig& c) {
     << "\n"
     << "  hold_heading_when_still: " << (f.hold_heading_when_still ? "true" : "false") << "\n"
     << "  reinit_behind_camera: " << (f.reinit_behind_camera ? "true" : "false") << "\n"
-    << "  remap_pixel_std_px: " << fmt(f.remap_pixel_std_px) << "\n";
+    << "  remap_pixel_std_px: " << fmt(f.remap_pixel_std_px) << "\n"
+    << "  remap_merge_gate_chi2: " << fmt(f.remap_merge_gate_chi2) << "\n";
   s << "frontend:\n"
     << "  min_inliers: " << c.frontend.min_inliers << "\n"
     << "  features_min_inliers: " << c.frontend.features_min_inliers << "\n"

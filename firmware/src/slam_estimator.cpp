@@ -368,7 +368,8 @@ void SlamEstimator::merge_remapped() {
     const std::int64_t track = slot_owner_[ss];
     merge_target_[ss] = -1;
     const hal::FeatureObservation f{track, 0.0, 0.0};
-    if (ekf_.merge_landmarks(earlier, s) == slam_core::ObservationResult::kFused) {
+    if (ekf_.merge_landmarks(earlier, s, config_.filter.remap_merge_gate_chi2) ==
+        slam_core::ObservationResult::kFused) {
       slot_owner_[static_cast<std::size_t>(earlier)] = track;
       slot_owner_[ss] = -1;
       record(f, lf::UpdateStatus::kMerged, earlier);

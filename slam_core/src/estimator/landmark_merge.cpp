@@ -8,7 +8,7 @@ namespace cleanslam::slam_core {
 
 // z = y_keep - y_drop = 0 with H = [.. I .. -I ..]: exactly linear, so the update's only error is
 // in the covariance the two estimates carry. P H^T is the difference of two column blocks.
-ObservationResult Ekf::merge_landmarks(int keep, int drop, double merge_std_m) {
+ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, double merge_std_m) {
   finish_update();
   if (!valid_used_slot(keep) || !valid_used_slot(drop) || keep == drop || !(merge_std_m >= 0.0) ||
       !std::isfinite(merge_std_m)) {
@@ -27,7 +27,7 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double merge_std_m) {
     return ObservationResult::kNotPositiveDefinite;
   }
   const Eigen::Vector3d nu = x_.segment<3>(b) - x_.segment<3>(a);
-  if (!(nu.dot(llt.solve(nu)) <= config_.gate_chi2)) {
+  if (gate_chi2 > 0.0 && !(nu.dot(llt.solve(nu)) <= gate_chi2)) {
     ++counters_.merges_gated;
     return ObservationResult::kGate;
   }

@@ -140,7 +140,7 @@ struct EkfRun {
         if (ekf->predict_pixel(slot, p)) {
           const int dup = ekf->initialize_landmark(p.uv.x(), p.uv.y());
           if (dup >= 0 && dup != slot &&
-              ekf->merge_landmarks(slot, dup) == cs::ObservationResult::kFused) {
+              ekf->merge_landmarks(slot, dup, 11.34) == cs::ObservationResult::kFused) {
             ++merged;
           }
         }

@@ -45,7 +45,7 @@ TEST_F(EkfMergeTest, EqualsTheDenseKalmanUpdateAndFreesTheDroppedSlot) {
   const Eigen::VectorXd x_ref = x + K * (-(H * x));
   const Eigen::MatrixXd P_ref = P - K * S * K.transpose();
 
-  ASSERT_EQ(ekf_.merge_landmarks(keep, drop, r), cs::ObservationResult::kFused);
+  ASSERT_EQ(ekf_.merge_landmarks(keep, drop, 11.34, r), cs::ObservationResult::kFused);
   EXPECT_FALSE(ekf_.slot_used(drop));
   EXPECT_TRUE(ekf_.slot_used(keep));
   EXPECT_TRUE(ekf_.slot_used(other));
@@ -85,26 +85,35 @@ TEST_F(EkfMergeTest, TwoDifferentPointsAreGatedAndNothingChanges) {
   ASSERT_GE(b, 0);
   const Eigen::VectorXd x = ekf_.state();
   const Eigen::MatrixXd P = ekf_.covariance();
-  EXPECT_EQ(ekf_.merge_landmarks(a, b), cs::ObservationResult::kGate);
+  EXPECT_EQ(ekf_.merge_landmarks(a, b, 11.34), cs::ObservationResult::kGate);
   EXPECT_EQ(ekf_.counters().merges_gated, 1U);
   EXPECT_EQ(ekf_.counters().landmarks_merged, 0U);
   EXPECT_EQ(ekf_.landmark_count(), 2);
   EXPECT_TRUE(ekf_.state() == x);
   EXPECT_TRUE(ekf_.covariance() == P);
+  // Without a gate (the track id says they are one point) they are merged all the same.
+  EXPECT_EQ(ekf_.merge_landmarks(a, b, 0.0), cs::ObservationResult::kFused);
+  EXPECT_EQ(ekf_.landmark_count(), 1);
+  EXPECT_FALSE(ekf_.slot_used(b));
+  EXPECT_TRUE(ekf_.state().allFinite());
+  const int n = ekf_.active_dim();
+  const Eigen::MatrixXd P2 = ekf_.covariance().topLeftCorner(n, n);
+  EXPECT_EQ((P2 - P2.transpose()).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P2).eigenvalues().minCoeff(), -1e-12);
 }
 
 TEST_F(EkfMergeTest, UnusedOrEqualSlotsAndBadNoiseAreRefused) {
   const int a = ekf_.initialize_landmark(100.0, 120.0);
   ASSERT_GE(a, 0);
-  EXPECT_EQ(ekf_.merge_landmarks(a, a), cs::ObservationResult::kInvalidSlot);
-  EXPECT_EQ(ekf_.merge_landmarks(a, a + 1), cs::ObservationResult::kInvalidSlot);
-  EXPECT_EQ(ekf_.merge_landmarks(-1, a), cs::ObservationResult::kInvalidSlot);
-  EXPECT_EQ(ekf_.merge_landmarks(a, hal::kMaxLandmarks), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf_.merge_landmarks(a, a, 0.0), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf_.merge_landmarks(a, a + 1, 0.0), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf_.merge_landmarks(-1, a, 0.0), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf_.merge_landmarks(a, hal::kMaxLandmarks, 0.0), cs::ObservationResult::kInvalidSlot);
   const int b = ekf_.initialize_landmark(101.0, 120.0);
   ASSERT_GE(b, 0);
   const Eigen::VectorXd x2 = ekf_.state();
-  EXPECT_EQ(ekf_.merge_landmarks(a, b, std::nan("")), cs::ObservationResult::kInvalidSlot);
-  EXPECT_EQ(ekf_.merge_landmarks(a, b, -1.0), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf_.merge_landmarks(a, b, 0.0, std::nan("")), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf_.merge_landmarks(a, b, 0.0, -1.0), cs::ObservationResult::kInvalidSlot);
   EXPECT_TRUE(ekf_.state() == x2);
   EXPECT_EQ(ekf_.landmark_count(), 2);
 }

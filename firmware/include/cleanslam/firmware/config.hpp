@@ -46,6 +46,8 @@ struct FilterSettings {
   // its earlier entry (slam_core::Ekf::merge_landmarks) once its depth has converged or its track
   // ends; 0: off.
   double remap_pixel_std_px = 0.0;
+  // The merge's chi-square gate (3 dof); 0: none (track ids make the two entries the same point).
+  double remap_merge_gate_chi2 = 0.0;
 };
 
 struct FrontendSettings {

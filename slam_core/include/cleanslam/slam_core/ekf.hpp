@@ -75,9 +75,11 @@ class Ekf {
 
   // Two slots that hold the same point (a landmark mapped again after the pose was lost, and its
   // earlier map entry): the linear update with the constraint y_keep - y_drop = 0 (std. dev.
-  // merge_std_m per axis), gated at gate_chi2 on its 3 dof, then drop is deleted. kFused when
-  // merged; kGate, kNotPositiveDefinite or kInvalidSlot (nothing changed) otherwise.
-  ObservationResult merge_landmarks(int keep, int drop, double merge_std_m = 0.01);
+  // merge_std_m per axis), gated at gate_chi2 on its 3 dof (none when not above 0), then drop is
+  // deleted. kFused when merged; kGate, kNotPositiveDefinite or kInvalidSlot (nothing changed)
+  // otherwise.
+  ObservationResult merge_landmarks(int keep, int drop, double gate_chi2,
+                                    double merge_std_m = 0.01);
 
   // Per-observation gates (3-D and pixel), then one batch Joseph-form update of the survivors (eq.
   // 25-27). With a step budget (set_update_step) the update may return still pending: the status
