@@ -142,6 +142,10 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.hold_heading_when_still = f.flag("hold_heading_when_still", x.hold_heading_when_still);
     x.reinit_behind_camera = f.flag("reinit_behind_camera", x.reinit_behind_camera);
     x.remap_pixel_std_px = f.number("remap_pixel_std_px", x.remap_pixel_std_px, 0.0, 1e4);
+    x.remap_min_yaw_std_deg =
+        f.number("remap_min_yaw_std_deg", x.remap_min_yaw_std_deg, 0.0, 180.0);
+    x.remap_max_mapped_in_view = f.integer("remap_max_mapped_in_view", x.remap_max_mapped_in_view,
+                                           0, hal::kMaxFeaturesPerFrame);
     x.remap_merge_gate_chi2 = f.number("remap_merge_gate_chi2", x.remap_merge_gate_chi2, 0.0, 1e6);
     f.done();
   }
@@ -386,6 +390,8 @@ std::string config_text(const FirmwareConfig& c) {
     << "  hold_heading_when_still: " << (f.hold_heading_when_still ? "true" : "false") << "\n"
     << "  reinit_behind_camera: " << (f.reinit_behind_camera ? "true" : "false") << "\n"
     << "  remap_pixel_std_px: " << fmt(f.remap_pixel_std_px) << "\n"
+    << "  remap_min_yaw_std_deg: " << fmt(f.remap_min_yaw_std_deg) << "\n"
+    << "  remap_max_mapped_in_view: " << f.remap_max_mapped_in_view << "\n"
     << "  remap_merge_gate_chi2: " << fmt(f.remap_merge_gate_chi2) << "\n";
   s << "frontend:\n"
     << "  min_inliers: " << c.frontend.min_inliers << "\n"

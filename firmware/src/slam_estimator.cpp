@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <Eigen/Eigenvalues>
 
@@ -207,6 +208,12 @@ bool SlamEstimator::associate_features() {
   }
   const double w = config_.calibration.camera.width;
   const double h = config_.calibration.camera.height;
+  // Enough mapped landmarks in view constrain the whole pose at once: no remapping then.
+  int mapped = 0;
+  for (int i = 0; i < n; ++i) {
+    mapped += slot_of(frame_.features[i].track_id) >= 0 ? 1 : 0;
+  }
+  remap_allowed_ = mapped <= config_.filter.remap_max_mapped_in_view;
   int m = 0;
   int fresh = 0;
   for (int i = 0; i < n; ++i) {
@@ -333,7 +340,12 @@ void SlamEstimator::initialize_features() {
 
 bool SlamEstimator::needs_remap(int slot) const {
   const double limit = config_.filter.remap_pixel_std_px;
-  if (!(limit > 0.0) || merge_target_[static_cast<std::size_t>(slot)] >= 0) {
+  if (!(limit > 0.0) || !remap_allowed_ || merge_target_[static_cast<std::size_t>(slot)] >= 0) {
+    return false;
+  }
+  // Only with the heading lost: with a known pose a poor prediction is the landmark's own doing.
+  if (!(std::sqrt(std::max(0.0, ekf_.pose_covariance()(5, 5))) >
+        config_.filter.remap_min_yaw_std_deg * std::numbers::pi / 180.0)) {
     return false;
   }
   slam_core::PixelPrediction pp;

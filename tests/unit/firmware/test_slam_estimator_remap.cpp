@@ -1,3 +1,6 @@
+#include <cmath>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "feature_run.hpp"
@@ -14,9 +17,10 @@ namespace {
 constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
 
 // Driving at 0.2 m/s.
-cleanslam::test::FeatureRun remap_run(double remap_px) {
+cleanslam::test::FeatureRun remap_run(double remap_px, double min_yaw_std_deg = 0.0) {
   firmware::FirmwareConfig c;
   c.filter.remap_pixel_std_px = remap_px;
+  c.filter.remap_min_yaw_std_deg = min_yaw_std_deg;
   return {c, 0.2};
 }
 
@@ -47,7 +51,42 @@ TEST(SlamEstimatorRemap, AnUncertainReSightingIsMappedAgainAndMergedWhenItsTrack
   EXPECT_EQ(run.estimator.ekf().counters().landmarks_merged, 1U);
 }
 
-TEST(SlamEstimatorRemap, OffByDefaultTheReSightingUpdatesTheSameSlot) {
+TEST(SlamEstimatorRemap, WhileTheHeadingIsKnownTheReSightingUpdatesTheSameSlot) {
+  // The default limits: the heading's std. dev. after a second's drive is far below 3 degrees.
+  const firmware::FirmwareConfig defaults;
+  auto known = remap_run(0.01, defaults.filter.remap_min_yaw_std_deg);
+  auto r = known.frame(500 * kMs, {{7, 100.0, 119.5}});
+  ASSERT_EQ(r.size(), 1U);
+  const int slot = r[0].slot;
+  r = known.frame(1000 * kMs, {{7, 98.0, 119.5}});
+  ASSERT_EQ(r.size(), 1U);
+  EXPECT_EQ(r[0].slot, slot);
+  EXPECT_NE(r[0].status, lf::UpdateStatus::kInitialized);
+  EXPECT_LT(std::sqrt(known.estimator.ekf().pose_covariance()(5, 5)), 3.0 * 3.14159 / 180.0);
+}
+
+TEST(SlamEstimatorRemap, ThreeMappedLandmarksInViewAreUpdatedDirectly) {
+  for (const int max_in_view : {2, 3}) {
+    firmware::FirmwareConfig c;
+    c.filter.remap_pixel_std_px = 0.01;
+    c.filter.remap_min_yaw_std_deg = 0.0;
+    c.filter.remap_max_mapped_in_view = max_in_view;
+    cleanslam::test::FeatureRun run(c, 0.2);
+    const std::vector<hal::FeatureObservation> three{
+        {7, 100.0, 119.5}, {8, 200.0, 100.0}, {9, 250.0, 140.0}};
+    auto r = run.frame(500 * kMs, three);
+    ASSERT_EQ(r.size(), 3U);
+    r = run.frame(1000 * kMs, {{7, 98.0, 119.5}, {8, 199.0, 100.0}, {9, 249.0, 140.0}});
+    ASSERT_EQ(r.size(), 3U);
+    for (const auto& rec : r) {
+      EXPECT_EQ(rec.status == lf::UpdateStatus::kInitialized, max_in_view == 3)
+          << "track " << rec.track_id << ", at most " << max_in_view;
+    }
+    EXPECT_EQ(run.estimator.ekf().landmark_count(), max_in_view == 3 ? 6 : 3);
+  }
+}
+
+TEST(SlamEstimatorRemap, OffTheReSightingUpdatesTheSameSlot) {
   auto run = remap_run(0.0);
   auto r = run.frame(500 * kMs, {{7, 100.0, 119.5}});
   ASSERT_EQ(r.size(), 1U);

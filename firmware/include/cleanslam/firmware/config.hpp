@@ -41,11 +41,15 @@ struct FilterSettings {
   bool hold_heading_when_still = true;
   // A tracked feature whose landmark is predicted behind the camera re-initializes the landmark.
   bool reinit_behind_camera = false;
-  // Re-sighting with the pose lost: a tracked landmark whose predicted pixel std. dev. exceeds
-  // this (or that is predicted behind the camera) is mapped again from its ray and merged into
-  // its earlier entry (slam_core::Ekf::merge_landmarks) once its depth has converged or its track
-  // ends; 0: off.
-  double remap_pixel_std_px = 0.0;
+  // Re-sighting with the pose lost (yaw std. dev. above remap_min_yaw_std_deg): a tracked landmark
+  // whose predicted pixel std. dev. exceeds remap_pixel_std_px (or that is predicted behind the
+  // camera) is mapped again from its ray and merged into its earlier entry
+  // (slam_core::Ekf::merge_landmarks) once its depth has converged or its track ends; 0: off.
+  double remap_pixel_std_px = 30.0;
+  double remap_min_yaw_std_deg = 3.0;
+  // ... and only in frames with at most this many mapped landmarks in view: three bearings or
+  // more fix the whole pose at once, and the batch update (JCBB-checked) relocalizes directly.
+  int remap_max_mapped_in_view = 2;
   // The merge's chi-square gate (3 dof); 0: none (track ids make the two entries the same point).
   double remap_merge_gate_chi2 = 0.0;
 };

@@ -79,6 +79,7 @@ class SlamEstimator final : public Estimator {
   hal::TimeNs predicted_to_ns_ = -1;
   std::array<std::int64_t, hal::kMaxLandmarks> slot_owner_{};  // track id per slot, -1: free
   std::array<int, hal::kMaxLandmarks> merge_target_{};  // earlier entry of a remapped slot, -1
+  bool remap_allowed_ = false;  // this frame: few enough mapped landmarks in view
 
   hal::CameraFrame frame_;
   bool frame_done_ = true;
