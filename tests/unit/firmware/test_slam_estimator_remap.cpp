@@ -51,18 +51,22 @@ TEST(SlamEstimatorRemap, AnUncertainReSightingIsMappedAgainAndMergedWhenItsTrack
   EXPECT_EQ(run.estimator.ekf().counters().landmarks_merged, 1U);
 }
 
-TEST(SlamEstimatorRemap, WhileTheHeadingIsKnownTheReSightingUpdatesTheSameSlot) {
-  // The default limits: the heading's std. dev. after a second's drive is far below 3 degrees.
+// Remapping off, or on with the default limits while the heading is known (its std. dev. after
+// a second's drive is far below 3 degrees): the re-sighting updates the same slot.
+TEST(SlamEstimatorRemap, OffOrWithTheHeadingKnownTheReSightingUpdatesTheSameSlot) {
   const firmware::FirmwareConfig defaults;
-  auto known = remap_run(0.01, defaults.filter.remap_min_yaw_std_deg);
-  auto r = known.frame(500 * kMs, {{7, 100.0, 119.5}});
-  ASSERT_EQ(r.size(), 1U);
-  const int slot = r[0].slot;
-  r = known.frame(1000 * kMs, {{7, 98.0, 119.5}});
-  ASSERT_EQ(r.size(), 1U);
-  EXPECT_EQ(r[0].slot, slot);
-  EXPECT_NE(r[0].status, lf::UpdateStatus::kInitialized);
-  EXPECT_LT(std::sqrt(known.estimator.ekf().pose_covariance()(5, 5)), 3.0 * 3.14159 / 180.0);
+  for (const double remap_px : {0.0, 0.01}) {
+    auto run = remap_run(remap_px, defaults.filter.remap_min_yaw_std_deg);
+    auto r = run.frame(500 * kMs, {{7, 100.0, 119.5}});
+    ASSERT_EQ(r.size(), 1U);
+    const int slot = r[0].slot;
+    r = run.frame(1000 * kMs, {{7, 98.0, 119.5}});
+    ASSERT_EQ(r.size(), 1U);
+    EXPECT_EQ(r[0].slot, slot) << remap_px;
+    EXPECT_NE(r[0].status, lf::UpdateStatus::kInitialized) << remap_px;
+    EXPECT_EQ(run.estimator.ekf().landmark_count(), 1);
+    EXPECT_LT(std::sqrt(run.estimator.ekf().pose_covariance()(5, 5)), 3.0 * 3.14159 / 180.0);
+  }
 }
 
 TEST(SlamEstimatorRemap, ThreeMappedLandmarksInViewAreUpdatedDirectly) {
@@ -84,16 +88,4 @@ TEST(SlamEstimatorRemap, ThreeMappedLandmarksInViewAreUpdatedDirectly) {
     }
     EXPECT_EQ(run.estimator.ekf().landmark_count(), max_in_view == 3 ? 6 : 3);
   }
-}
-
-TEST(SlamEstimatorRemap, OffTheReSightingUpdatesTheSameSlot) {
-  auto run = remap_run(0.0);
-  auto r = run.frame(500 * kMs, {{7, 100.0, 119.5}});
-  ASSERT_EQ(r.size(), 1U);
-  const int first = r[0].slot;
-  r = run.frame(1000 * kMs, {{7, 98.0, 119.5}});
-  ASSERT_EQ(r.size(), 1U);
-  EXPECT_EQ(r[0].slot, first);
-  EXPECT_NE(r[0].status, lf::UpdateStatus::kInitialized);
-  EXPECT_EQ(run.estimator.ekf().landmark_count(), 1);
 }
