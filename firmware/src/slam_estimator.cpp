@@ -211,7 +211,8 @@ bool SlamEstimator::associate_features() {
   // Enough mapped landmarks in view constrain the whole pose at once: no remapping then.
   int mapped = 0;
   for (int i = 0; i < n; ++i) {
-    mapped += slot_of(frame_.features[i].track_id) >= 0 ? 1 : 0;
+    feature_slot_[static_cast<std::size_t>(i)] = slot_of(frame_.features[i].track_id);
+    mapped += feature_slot_[static_cast<std::size_t>(i)] >= 0 ? 1 : 0;
   }
   remap_allowed_ = mapped <= config_.filter.remap_max_mapped_in_view;
   int m = 0;
@@ -222,7 +223,7 @@ bool SlamEstimator::associate_features() {
       record(f, lf::UpdateStatus::kRejected, -1);
       continue;
     }
-    const int slot = slot_of(f.track_id);
+    const int slot = feature_slot_[static_cast<std::size_t>(i)];
     if (slot < 0 || needs_remap(slot)) {
       remap_of_[static_cast<std::size_t>(fresh)] = slot;
       new_feature_[static_cast<std::size_t>(fresh++)] = i;
@@ -329,6 +330,9 @@ void SlamEstimator::initialize_features() {
     }
     --budget;
     slot_owner_[static_cast<std::size_t>(slot)] = f.track_id;
+    // The slot may be a recycled one (a full pool): no merge may refer to what it held.
+    merge_target_[static_cast<std::size_t>(slot)] = -1;
+    std::replace(merge_target_.begin(), merge_target_.end(), slot, -1);
     const int earlier = remap_of_[static_cast<std::size_t>(j)];
     if (earlier >= 0 && earlier != slot && ekf_.slot_used(earlier)) {
       slot_owner_[static_cast<std::size_t>(earlier)] = -1;

@@ -51,6 +51,40 @@ TEST(SlamEstimatorRemap, AnUncertainReSightingIsMappedAgainAndMergedWhenItsTrack
   EXPECT_EQ(run.estimator.ekf().counters().landmarks_merged, 1U);
 }
 
+TEST(SlamEstimatorRemap, AnEarlierEntryRecycledByAFullPoolIsNotMergedInto) {
+  firmware::FirmwareConfig c;
+  c.filter.remap_pixel_std_px = 0.01;
+  c.filter.remap_min_yaw_std_deg = 0.0;
+  c.filter.max_landmarks = 2;
+  cleanslam::test::FeatureRun run(c, 0.2);
+  auto r = run.frame(500 * kMs, {{7, 100.0, 119.5}});
+  ASSERT_EQ(r.size(), 1U);
+  const int first = r[0].slot;
+  r = run.frame(1000 * kMs, {{7, 98.0, 119.5}});
+  ASSERT_EQ(r.size(), 1U);
+  const int second = r[0].slot;
+  // Track 7 goes on in `second`; track 8 needs a slot: the pool (2) recycles `first`.
+  r = run.frame(1500 * kMs, {{7, 96.0, 119.5}, {8, 250.0, 119.5}});
+  int slot8 = -1;
+  for (const auto& rec : r) {
+    EXPECT_NE(rec.status, lf::UpdateStatus::kMerged);
+    if (rec.track_id == 8) {
+      ASSERT_EQ(rec.status, lf::UpdateStatus::kInitialized);
+      slot8 = rec.slot;
+    }
+  }
+  ASSERT_EQ(slot8, first);
+  // Track 7 ends: nothing to merge it into any more; track 8 keeps its own landmark.
+  r = run.frame(2000 * kMs, {{8, 248.0, 119.5}});
+  for (const auto& rec : r) {
+    EXPECT_NE(rec.status, lf::UpdateStatus::kMerged);
+    EXPECT_NE(rec.status, lf::UpdateStatus::kMergeGated);
+  }
+  EXPECT_TRUE(run.estimator.ekf().slot_used(first));
+  EXPECT_TRUE(run.estimator.ekf().slot_used(second));
+  EXPECT_EQ(run.estimator.ekf().counters().landmarks_merged, 0U);
+}
+
 // Remapping off, or on with the default limits while the heading is known (its std. dev. after
 // a second's drive is far below 3 degrees): the re-sighting updates the same slot.
 TEST(SlamEstimatorRemap, OffOrWithTheHeadingKnownTheReSightingUpdatesTheSameSlot) {

@@ -105,7 +105,8 @@ class SlamEstimator final : public Estimator {
   std::array<double, 2 * kMaxObs> nu_{};
   std::array<double, 4 * kMaxObs * kMaxObs> S_{};
   std::array<int, hal::kMaxFeaturesPerFrame> new_feature_{};
-  std::array<int, hal::kMaxFeaturesPerFrame> remap_of_{};  // per new feature: its earlier slot
+  std::array<int, hal::kMaxFeaturesPerFrame> feature_slot_{};  // per feature: its slot or -1
+  std::array<int, hal::kMaxFeaturesPerFrame> remap_of_{};      // per new feature: its earlier slot
 };
 
 }  // namespace cleanslam::firmware
