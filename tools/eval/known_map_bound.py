@@ -18,13 +18,14 @@ Prints the dead reckoner's ATE (as cleanslam-eval --align none: relative to its 
 the filter's ATE in the world frame (it knows the map, so it knows the frame), at the frames with
 features, in metres; --out writes the filter's poses there (TUM). A SLAM estimator that builds
 its own map cannot beat the bound by much; one far above it loses accuracy in its estimator, not
-in its sensors. Exit status 1 when a file is missing or malformed."""
+in its sensors. Exit status 1 when a file is missing or malformed, 2 on bad arguments."""
 
 import argparse
 import json
 import math
 import os
 import sys
+import warnings
 
 import numpy as np
 import yaml
@@ -40,11 +41,15 @@ ESS_FRAC = 0.5
 
 def load_csv(path, cols):
     try:
-        a = np.loadtxt(path, delimiter=",", comments="#", ndmin=2)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)  # an empty file: reported below
+            a = np.loadtxt(path, delimiter=",", comments="#", ndmin=2)
     except (OSError, ValueError) as e:
         raise ValueError(f"{path}: {e}") from None
-    if a.size == 0 or a.shape[1] < cols:
-        raise ValueError(f"{path}: expected {cols} comma-separated columns")
+    if a.size == 0:
+        raise ValueError(f"{path}: no data rows")
+    if a.shape[1] < cols:
+        raise ValueError(f"{path}: expected {cols} comma-separated columns, got {a.shape[1]}")
     return a
 
 
