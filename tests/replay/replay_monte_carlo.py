@@ -208,6 +208,11 @@ with open(os.path.join(shifted, "sensors.yaml"), "w", encoding="utf-8") as f:
     f.write(re.sub(r"^(\s*)fx:.*$", r"\1fx: fast", text, count=1, flags=re.M))
 p = known_map(shifted)
 check(p.returncode == 1 and "'fx'" in p.stderr, f"bad fx: {p.returncode} {p.stderr}")
+with open(os.path.join(shifted, "sensors.yaml"), "w", encoding="utf-8") as f:
+    f.write(re.sub(r"T_body_cam:\s*\[\s*[^,\]]+", "T_body_cam: [x", text, count=1))
+p = known_map(shifted)
+check(p.returncode == 1 and "'T_body_cam'" in p.stderr,
+      f"bad T_body_cam: {p.returncode} {p.stderr}")
 p = known_map(ds, "--particles", "5")
 check(p.returncode == 2, f"too few particles: exit {p.returncode}")
 

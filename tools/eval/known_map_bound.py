@@ -60,25 +60,30 @@ def section(cal, name, path):
     return s
 
 
+def is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
 def number(sec, key, path, default=None):
     v = sec.get(key, default)
-    if not isinstance(v, (int, float)) or not math.isfinite(v):
+    if not is_number(v):
         raise ValueError(f"{path}: '{key}' must be a number, got {v!r}")
     return float(v)
+
+
+def numbers(sec, key, path, count, default=None):
+    v = sec.get(key, default)
+    if not isinstance(v, list) or len(v) != count or not all(is_number(e) for e in v):
+        raise ValueError(f"{path}: '{key}' must be a list of {count} numbers, got {v!r}")
+    return [float(e) for e in v]
 
 
 class Camera:
     def __init__(self, sec, path):
         self.fx, self.fy = number(sec, "fx", path), number(sec, "fy", path)
         self.cx, self.cy = number(sec, "cx", path), number(sec, "cy", path)
-        d = sec.get("distortion", [0.0, 0.0, 0.0, 0.0])
-        if not isinstance(d, list) or len(d) != 4:
-            raise ValueError(f"{path}: 'distortion' must be [k1, k2, p1, p2]")
-        self.k1, self.k2, self.p1, self.p2 = (float(v) for v in d)
-        t = sec.get("T_body_cam")
-        if not isinstance(t, list) or len(t) != 16:
-            raise ValueError(f"{path}: 'T_body_cam' must be 16 numbers (row-major 4x4)")
-        t = np.array(t, dtype=float).reshape(4, 4)
+        self.k1, self.k2, self.p1, self.p2 = numbers(sec, "distortion", path, 4, [0.0] * 4)
+        t = np.array(numbers(sec, "T_body_cam", path, 16)).reshape(4, 4)  # row-major
         self.R_bc, self.t_bc = t[:3, :3], t[:3, 3]
         self.noise = number(sec, "pixel_noise", path, 0.5)
 
@@ -112,8 +117,8 @@ def standstill_bias(enc, gyro_t, gyro_cum, window):
     for k in range(1, len(enc)):
         run = run + 1 if ticks[k - 1] == 0 else 0
         still[k] = run >= window
-        if still[k]:
-            dt = (enc[k, 0] - enc[k - 1, 0]) * 1e-9
+        dt = (enc[k, 0] - enc[k - 1, 0]) * 1e-9
+        if still[k] and dt > 0.0:
             rate = (np.interp(enc[k, 0], gyro_t, gyro_cum) -
                     np.interp(enc[k - 1, 0], gyro_t, gyro_cum)) / dt
             n = min(n + 1, 400)
