@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""tools/eval/monte_carlo.py, scenario_table.py, sighting_bound.py and known_map_bound.py on short
-simulated runs: output format, exit status, failures reported, the script's per-pose NEES equal to
-cleanslam-eval's, chi-square band. Not accuracy, except the known-map bound's on the default room.
+"""tools/eval/monte_carlo.py, scenario_table.py, sighting_bound.py, known_map_bound.py and
+full_slam_bound.py on short simulated runs: output format, exit status, failures reported, the
+script's per-pose NEES equal to cleanslam-eval's, chi-square band. Not accuracy, except the bounds'
+on the default room.
 Arguments: EMULATOR (may be empty) BIN_DIR WORK_DIR."""
 
 import json
@@ -15,7 +16,11 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 EVAL = os.path.join(HERE, "..", "..", "tools", "eval")
 sys.path.insert(0, EVAL)
+import full_slam_bound  # noqa: E402
+import known_map_bound  # noqa: E402
 import monte_carlo  # noqa: E402
+import numpy as np  # noqa: E402
+import sighting_bound  # noqa: E402
 
 emulator, bin_dir, work = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(work, ignore_errors=True)
@@ -170,17 +175,27 @@ ds = os.path.join(work, "mc", "seed_3", "dataset")
 rd = os.path.join(work, "mc", "seed_3", "run")
 
 
-def known_map(dataset, *args):
-    cmd = [sys.executable, os.path.join(EVAL, "known_map_bound.py"), dataset, rd,
-           "--particles", "500", *args]
+def bound_tool(script, dataset, *args):
+    cmd = [sys.executable, os.path.join(EVAL, script), dataset, rd, *args]
     return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                           check=False)
 
 
+def known_map(dataset, *args):
+    return bound_tool("known_map_bound.py", dataset, "--particles", "500", *args)
+
+
+
+
+def bound_json(tool, tum):
+    """The tool's process and its JSON on the default room, writing its poses to `tum`."""
+    r = tool(ds, "--json", "--out", tum)
+    check(r.returncode == 0, f"{tool.__name__} exit {r.returncode}: {r.stderr}")
+    return r, (json.loads(r.stdout) if r.returncode == 0 else {})
+
+
 tum = os.path.join(work, "known_map.tum")
-p = known_map(ds, "--json", "--out", tum)
-check(p.returncode == 0, f"known_map_bound exit {p.returncode}: {p.stderr}")
-k = json.loads(p.stdout) if p.returncode == 0 else {}
+p, k = bound_json(known_map, tum)
 check(0.0 <= k.get("known_map_ate_m", 1.0) < 0.5 * k.get("dr_ate_m", 0.0),
       f"known map not below half of DR: {k}")
 with open(tum, encoding="utf-8") as f:
@@ -204,17 +219,81 @@ check(p.returncode == 1 and "sim_landmarks.csv" in p.stderr, f"no landmarks: {p.
 shutil.copy(os.path.join(ds, "sim_landmarks.csv"), shifted)
 with open(os.path.join(ds, "sensors.yaml"), encoding="utf-8") as f:
     text = f.read()
-with open(os.path.join(shifted, "sensors.yaml"), "w", encoding="utf-8") as f:
-    f.write(re.sub(r"^(\s*)fx:.*$", r"\1fx: fast", text, count=1, flags=re.M))
-p = known_map(shifted)
-check(p.returncode == 1 and "'fx'" in p.stderr, f"bad fx: {p.returncode} {p.stderr}")
-with open(os.path.join(shifted, "sensors.yaml"), "w", encoding="utf-8") as f:
-    f.write(re.sub(r"T_body_cam:\s*\[\s*[^,\]]+", "T_body_cam: [x", text, count=1))
-p = known_map(shifted)
-check(p.returncode == 1 and "'T_body_cam'" in p.stderr,
-      f"bad T_body_cam: {p.returncode} {p.stderr}")
+
+
+def check_bad_sensors(tool, sensors_text, key):
+    """The tool on `shifted` with this sensors.yaml exits 1 and names the key."""
+    with open(os.path.join(shifted, "sensors.yaml"), "w", encoding="utf-8") as f:
+        f.write(sensors_text)
+    r = tool(shifted)
+    check(r.returncode == 1 and f"'{key}'" in r.stderr, f"bad {key}: {r.returncode} {r.stderr}")
+
+
+check_bad_sensors(known_map, re.sub(r"^(\s*)fx:.*$", r"\1fx: fast", text, count=1, flags=re.M),
+                  "fx")
+check_bad_sensors(known_map, re.sub(r"T_body_cam:\s*\[\s*[^,\]]+", "T_body_cam: [x", text, count=1),
+                  "T_body_cam")
 p = known_map(ds, "--particles", "5")
 check(p.returncode == 2, f"too few particles: exit {p.returncode}")
+
+# full_slam_bound.py: smoothing the whole default-room run from the truth is far better than dead
+# reckoning, and started from dead reckoning it reaches the same optimum (so the solver converges
+# and uses the observations); its cost's gradient is the finite-difference one; bad input is named.
+
+
+def full_slam(dataset, *args):
+    return bound_tool("full_slam_bound.py", dataset, *args)
+
+
+tum = os.path.join(work, "full_slam.tum")
+p, f_truth = bound_json(full_slam, tum)
+check(0.0 <= f_truth.get("full_slam_ate_m", 1.0) < 0.5 * f_truth.get("dr_ate_m", 0.0),
+      f"full SLAM from the truth not below half of DR: {f_truth}")
+check(0.0 < f_truth.get("posterior_sd_m", 0.0) < 0.5 * f_truth.get("dr_ate_m", 0.0) and
+      f_truth.get("full_slam_ate_m", 1.0) < 3.0 * f_truth.get("posterior_sd_m", 0.0),
+      f"full SLAM posterior std. dev. not consistent with its error: {f_truth}")
+with open(tum, encoding="utf-8") as f:
+    check(sum(1 for _ in f) == f_truth.get("frames", -1),
+          "full_slam_bound --out: one pose per frame")
+check(full_slam(ds, "--json", "--out", tum).stdout == p.stdout, "full_slam_bound not deterministic")
+p = full_slam(ds, "--json", "--start", "dr")
+f_dr = json.loads(p.stdout) if p.returncode == 0 else {}
+check(f_dr.get("full_slam_ate_m", 1.0) < 0.5 * f_dr.get("dr_ate_m", 0.0) and
+      abs(f_dr.get("full_slam_ate_m", 1.0) - f_truth.get("full_slam_ate_m", 0.0)) < 0.01,
+      f"full SLAM from dead reckoning {f_dr} does not reach the optimum from the truth {f_truth}")
+sen = known_map_bound.Sensors(ds)
+odo = full_slam_bound.Odometry(ds, sen)
+frames = full_slam_bound.frames_of(
+    known_map_bound.load_csv(os.path.join(ds, "features.csv"), 4), odo.t[0], odo.t[-1])
+lms = {int(r[0]): r[1:4]
+       for r in known_map_bound.load_csv(os.path.join(ds, "sim_landmarks.csv"), 4)}
+fs = full_slam_bound.FullSlam(sen, odo, frames, sighting_bound.Truth(
+    os.path.join(ds, "groundtruth.csv")), lms, odo.t[0], "dr")
+_, _, grad = fs.cost(fs.x, True)
+rng = np.random.default_rng(5)
+npose = 4 * fs.n
+for name, sel in (("poses", slice(3, npose)), ("landmarks", slice(npose, len(fs.x))),
+                  ("all", slice(3, len(fs.x)))):
+    v = np.zeros(len(fs.x))
+    v[sel] = rng.normal(0.0, 1.0, v[sel].shape)
+    v /= np.linalg.norm(v)
+    eps = 1e-6
+    numeric = (fs.cost(fs.x + eps * v)[0] - fs.cost(fs.x - eps * v)[0]) / (2 * eps)
+    analytic = 2.0 * float(grad @ v)
+    check(abs(numeric - analytic) <= 1e-4 * abs(analytic) + 1e-3,
+          f"full_slam_bound gradient along {name}: analytic {analytic}, numeric {numeric}")
+
+shutil.rmtree(shifted)
+shutil.copytree(ds, shifted)
+os.remove(os.path.join(shifted, "sim_landmarks.csv"))
+p = full_slam(shifted)
+check(p.returncode == 1 and "sim_landmarks.csv" in p.stderr,
+      f"full SLAM no landmarks: {p.returncode}")
+shutil.copy(os.path.join(ds, "sim_landmarks.csv"), shifted)
+check_bad_sensors(full_slam, re.sub(r"distortion:.*", "distortion: [0.1, 0.0, 0.0, 0.0]", text,
+                                    count=1), "distortion")
+p = full_slam(ds, "--iterations", "0")
+check(p.returncode == 2, f"full SLAM no iterations: exit {p.returncode}")
 
 print(f"{len(failures)} failure(s)" if failures else "all checks passed", file=sys.stderr)
 sys.exit(1 if failures else 0)

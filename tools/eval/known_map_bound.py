@@ -127,25 +127,36 @@ def standstill_bias(enc, gyro_t, gyro_cum, window):
     return still, bias
 
 
+class Sensors:
+    """The calibration of sensors.yaml that the bounds use; errors name the file and key."""
+
+    def __init__(self, dataset):
+        path = os.path.join(dataset, "sensors.yaml")
+        try:
+            with open(path, encoding="utf-8") as f:
+                cal = yaml.safe_load(f)
+        except (OSError, yaml.YAMLError) as e:
+            raise ValueError(f"{path}: {e}") from None
+        if not isinstance(cal, dict):
+            raise ValueError(f"{path}: not a mapping")
+        self.cam = Camera(section(cal, "camera", path), path)
+        wheels = section(cal, "wheels", path)
+        gyro = section(cal, "gyro", path)
+        self.tpm_l = number(wheels, "ticks_per_meter_left", path)
+        self.tpm_r = number(wheels, "ticks_per_meter_right", path)
+        self.distance_noise = number(wheels, "distance_noise", path, 0.02)
+        self.density = number(gyro, "noise_density", path)
+        self.bias_sd = number(gyro, "bias_instability", path, 1e-4)
+        self.bias_walk = number(gyro, "bias_walk", path, 0.0)
+        self.gyro_scale_sd = number(gyro, "scale_error", path, 0.0)
+
+
 def localize(dataset, particles=5000, seed=1, progress=None):
-    cal_path = os.path.join(dataset, "sensors.yaml")
-    try:
-        with open(cal_path, encoding="utf-8") as f:
-            cal = yaml.safe_load(f)
-    except (OSError, yaml.YAMLError) as e:
-        raise ValueError(f"{cal_path}: {e}") from None
-    if not isinstance(cal, dict):
-        raise ValueError(f"{cal_path}: not a mapping")
-    cam = Camera(section(cal, "camera", cal_path), cal_path)
-    wheels = section(cal, "wheels", cal_path)
-    gyro = section(cal, "gyro", cal_path)
-    tpm_l = number(wheels, "ticks_per_meter_left", cal_path)
-    tpm_r = number(wheels, "ticks_per_meter_right", cal_path)
-    scale_sd = number(wheels, "distance_noise", cal_path, 0.02)
-    density = number(gyro, "noise_density", cal_path)
-    bias_sd = number(gyro, "bias_instability", cal_path, 1e-4)
-    bias_walk = number(gyro, "bias_walk", cal_path, 0.0)
-    gyro_scale_sd = number(gyro, "scale_error", cal_path, 0.0)
+    sen = Sensors(dataset)
+    cam = sen.cam
+    tpm_l, tpm_r = sen.tpm_l, sen.tpm_r
+    scale_sd, density, bias_sd = sen.distance_noise, sen.density, sen.bias_sd
+    bias_walk, gyro_scale_sd = sen.bias_walk, sen.gyro_scale_sd
 
     gt = load_csv(os.path.join(dataset, "groundtruth.csv"), 8)
     enc = load_csv(os.path.join(dataset, "encoders.csv"), 3)
@@ -229,6 +240,14 @@ def world_ate(dataset, poses):
     return math.sqrt(sq / len(poses))
 
 
+def write_tum(path, poses):
+    """Planar poses (t_s, x, y, yaw) as TUM lines."""
+    with open(path, "w", encoding="utf-8") as f:
+        for t, x, y, yaw in poses:
+            f.write(f"{t:.9f} {x:.6f} {y:.6f} 0 0 0 {math.sin(yaw / 2):.9f} "
+                    f"{math.cos(yaw / 2):.9f}\n")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("dataset")
@@ -254,10 +273,7 @@ def main():
     r = {"frames": len(poses), "dr_ate_m": dr["dr_ate_m"],
          "known_map_ate_m": world_ate(a.dataset, poses)}
     if a.out:
-        with open(a.out, "w", encoding="utf-8") as f:
-            for t, x, y, yaw in poses:
-                f.write(f"{t:.9f} {x:.6f} {y:.6f} 0 0 0 {math.sin(yaw / 2):.9f} "
-                        f"{math.cos(yaw / 2):.9f}\n")
+        write_tum(a.out, poses)
     if a.json:
         print(json.dumps(r))
     else:
