@@ -249,9 +249,10 @@ tum = os.path.join(work, "full_slam.tum")
 p, f_truth = bound_json(full_slam, tum)
 check(0.0 <= f_truth.get("full_slam_ate_m", 1.0) < 0.5 * f_truth.get("dr_ate_m", 0.0),
       f"full SLAM from the truth not below half of DR: {f_truth}")
-check(0.0 < f_truth.get("posterior_sd_m", 0.0) < 0.5 * f_truth.get("dr_ate_m", 0.0) and
-      f_truth.get("full_slam_ate_m", 1.0) < 3.0 * f_truth.get("posterior_sd_m", 0.0),
-      f"full SLAM posterior std. dev. not consistent with its error: {f_truth}")
+check(0.0 < f_truth.get("smoothing_sd_m", 0.0) <= f_truth.get("filtering_sd_m", 0.0) <
+      0.5 * f_truth.get("dr_ate_m", 0.0) and
+      f_truth.get("full_slam_ate_m", 1.0) < 3.0 * f_truth.get("smoothing_sd_m", 0.0),
+      f"full SLAM std. devs. not ordered or not consistent with its error: {f_truth}")
 with open(tum, encoding="utf-8") as f:
     check(sum(1 for _ in f) == f_truth.get("frames", -1),
           "full_slam_bound --out: one pose per frame")
@@ -282,6 +283,13 @@ for name, sel in (("poses", slice(3, npose)), ("landmarks", slice(npose, len(fs.
     analytic = 2.0 * float(grad @ v)
     check(abs(numeric - analytic) <= 1e-4 * abs(analytic) + 1e-3,
           f"full_slam_bound gradient along {name}: analytic {analytic}, numeric {numeric}")
+
+# Given the data so far, the last frame is known as well as given all of it, and no frame better.
+fv = full_slam_bound.filtering_variances(fs)
+sv = full_slam_bound.smoothing_variances(fs)
+check(len(fv) == len(sv) == fs.n - 1 and abs(fv[-1] - sv[-1]) <= 1e-6 * sv[-1] and
+      bool(np.all(fv >= sv * (1 - 1e-6))),
+      f"filtering variances {fv[-3:]} against smoothing {sv[-3:]}")
 
 shutil.rmtree(shifted)
 shutil.copytree(ds, shifted)

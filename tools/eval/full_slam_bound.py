@@ -22,13 +22,15 @@ instead (landmarks triangulated from their rays): how far a local solver gets wi
 basin. It shares no code with the estimator; it takes a pinhole camera (no distortion).
 
 Prints the dead reckoner's ATE and the smoothed trajectory's, both relative to the first frame (as
-cleanslam-eval --align none), at the frames with features, and the posterior's RMS position
-standard deviation there (from the information matrix at the solution), in metres. Where the data
-leave the trajectory loose (a stretch whose landmarks are seen in no other stretch, joined to the
-rest only across long gaps), a solver started from the truth stays near it, so the ATE flatters
-and the standard deviation tells (under the calibration's noise model, linearized at the
-solution): no estimator's expected error is below it. --out writes the poses (TUM). Exit status 1
-when a file is missing or malformed, 2 on bad arguments."""
+cleanslam-eval --align none), at the frames with features, and two RMS position standard
+deviations there, linearized at the solution under the calibration's noise model: given all the
+data (smoothing) and given the data up to each frame (filtering: the older keyframes marginalized
+in a forward sweep). Where the data leave the trajectory loose (a stretch whose landmarks are seen
+in no other stretch, joined to the rest only across long gaps), a solver started from the truth
+stays near it, so the ATE flatters and the standard deviations tell, to first order: no
+estimator's expected error is below the smoothing one, and no causal estimator's (a filter's,
+which outputs each pose from the data so far) below the filtering one. --out writes the poses
+(TUM). Exit status 1 when a file is missing or malformed, 2 on bad arguments."""
 
 import argparse
 import json
@@ -371,10 +373,64 @@ def block_solve(a, b, npose):
     return np.concatenate([inv[:, 0] - inv[:, 1:] @ lm, lm])
 
 
+def filtering_variances(fs):
+    """Per frame, the position variance (trace) given only the data up to that frame: the
+    information of (newest keyframe, landmarks) swept forward in time with the older keyframes
+    marginalized, linearized at the smoothed solution. A bias-only factor (standing still) counts
+    from the next keyframe on, when its interval has ended."""
+    n = fs.n
+    nl = len(fs.x) - 4 * n
+    by_time = [[] for _ in range(n + 1)]
+    blocks, _ = fs.residual_blocks(fs.x)
+    for cols, jacs, _, w in blocks:
+        for m in range(len(w)):
+            c = np.concatenate([ca[m] for ca in cols])
+            j = np.concatenate([ja[m] for ja in jacs], axis=1)
+            kf = c[c < 4 * n] // 4
+            t = int(kf.max()) if len(kf) else 0
+            if len(c) == 1 and c[0] < 4 * n and c[0] % 4 == 3:
+                t += 1
+            by_time[min(t, n)].append((c, j.T @ w[m] @ j))
+    size = 8 + nl
+    info = np.zeros((size, size))
+    var = []
+    for k in range(n + 1):
+        for c, blk in by_time[k]:
+            loc = np.where(c >= 4 * n, 8 + c - 4 * n, c - 4 * (k - 1))
+            info[np.ix_(loc, loc)] += blk
+        if k == n:
+            break
+        keep = np.r_[4:size]
+        if k > 0:
+            prev = info[:4, :4] + np.eye(4) * 1e-12
+            info[np.ix_(keep, keep)] -= info[np.ix_(keep, range(4))] @ np.linalg.solve(
+                prev, info[np.ix_(range(4), keep)])
+        if k >= 1:
+            cov = np.linalg.inv(info[np.ix_(keep, keep)] + np.eye(len(keep)) * 1e-12)
+            var.append(cov[0, 0] + cov[1, 1])
+        shifted = np.zeros((size, size))
+        shifted[np.ix_(np.r_[0:4, 8:size], np.r_[0:4, 8:size])] = info[np.ix_(np.r_[4:8, 8:size],
+                                                                          np.r_[4:8, 8:size])]
+        info = shifted
+    return np.array(var)
+
+
+def smoothing_variances(fs):
+    """Per frame, the position variance (trace) given all the data."""
+    _, h, _ = fs.cost(fs.x, True)
+    cov = np.linalg.inv(h + np.eye(len(h)) * 1e-12)
+    return np.array([cov[4 * i, 4 * i] + cov[4 * i + 1, 4 * i + 1] for i in range(1, fs.n)])
+
+
+def rms_sd(variances):
+    return math.sqrt(max(float(np.mean(variances)), 0.0)) if len(variances) else 0.0
+
+
 def smooth(dataset, iterations=200, progress=None, start="truth"):
     """[(t_s, x, y, yaw)] at the frames with features, the landmarks' mean planar error, the number
-    of observations of unknown landmarks, LM iterations, and the posterior's RMS position standard
-    deviation at the frames (from the inverse of the information matrix at the solution)."""
+    of observations of unknown landmarks, LM iterations, and the RMS position standard deviations
+    at the frames given all the data (smoothing) and given the data up to each (filtering), from
+    the information at the solution."""
     sen = kmb.Sensors(dataset)
     if any(k != 0.0 for k in (sen.cam.k1, sen.cam.k2, sen.cam.p1, sen.cam.p2)):
         raise ValueError(f"{dataset}/sensors.yaml: 'distortion' must be zeros (this tool's camera "
@@ -390,10 +446,7 @@ def smooth(dataset, iterations=200, progress=None, start="truth"):
     fs = FullSlam(sen, odo, frames, truth, landmarks, odo.t[0], start)
     _, done = fs.solve(iterations, progress)
     n = fs.n
-    _, h, _ = fs.cost(fs.x, True)
-    cov = np.linalg.inv(h + np.eye(len(h)) * 1e-12)
-    var = [cov[4 * i, 4 * i] + cov[4 * i + 1, 4 * i + 1] for i in range(1, n)]
-    spread = math.sqrt(max(float(np.mean(var)), 0.0))
+    spread = (rms_sd(smoothing_variances(fs)), rms_sd(filtering_variances(fs)))
     pose = fs.x[:4 * n].reshape(n, 4)
     poses = [(t * 1e-9, p[0], p[1], p[2]) for t, p in zip(fs.times[1:], pose[1:])]
     lm = fs.x[4 * n:].reshape(-1, 3)
@@ -427,7 +480,8 @@ def main():
         print(f"full_slam_bound: {e}", file=sys.stderr)
         return 1
     r = {"frames": len(poses), "iterations": done, "dr_ate_m": dr["dr_ate_m"],
-         "full_slam_ate_m": kmb.world_ate(a.dataset, poses), "posterior_sd_m": spread,
+         "full_slam_ate_m": kmb.world_ate(a.dataset, poses), "smoothing_sd_m": spread[0],
+         "filtering_sd_m": spread[1],
          "landmark_error_m": lm_err,
          "observations_without_landmark": dropped}
     if a.out:
@@ -437,8 +491,9 @@ def main():
     else:
         print(f"{r['frames']} frames with features: DR ATE {r['dr_ate_m']:.3f} m, full SLAM "
               f"smoothed from {'the truth' if a.start == 'truth' else 'dead reckoning'} "
-              f"{r['full_slam_ate_m']:.3f} m, posterior position std. dev. "
-              f"{r['posterior_sd_m']:.3f} m (landmarks {r['landmark_error_m']:.3f} m off)")
+              f"{r['full_slam_ate_m']:.3f} m; position std. dev. given all the data "
+              f"{r['smoothing_sd_m']:.3f} m, given the data so far {r['filtering_sd_m']:.3f} m "
+              f"(landmarks {r['landmark_error_m']:.3f} m off)")
     return 0
 
 
