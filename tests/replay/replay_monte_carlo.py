@@ -17,10 +17,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 EVAL = os.path.join(HERE, "..", "..", "tools", "eval")
 sys.path.insert(0, EVAL)
 import full_slam_bound  # noqa: E402
-import known_map_bound  # noqa: E402
 import monte_carlo  # noqa: E402
 import numpy as np  # noqa: E402
-import sighting_bound  # noqa: E402
 
 emulator, bin_dir, work = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(work, ignore_errors=True)
@@ -262,14 +260,7 @@ f_dr = json.loads(p.stdout) if p.returncode == 0 else {}
 check(f_dr.get("full_slam_ate_m", 1.0) < 0.5 * f_dr.get("dr_ate_m", 0.0) and
       abs(f_dr.get("full_slam_ate_m", 1.0) - f_truth.get("full_slam_ate_m", 0.0)) < 0.01,
       f"full SLAM from dead reckoning {f_dr} does not reach the optimum from the truth {f_truth}")
-sen = known_map_bound.Sensors(ds)
-odo = full_slam_bound.Odometry(ds, sen)
-frames = full_slam_bound.frames_of(
-    known_map_bound.load_csv(os.path.join(ds, "features.csv"), 4), odo.t[0], odo.t[-1])
-lms = {int(r[0]): r[1:4]
-       for r in known_map_bound.load_csv(os.path.join(ds, "sim_landmarks.csv"), 4)}
-fs = full_slam_bound.FullSlam(sen, odo, frames, sighting_bound.Truth(
-    os.path.join(ds, "groundtruth.csv")), lms, odo.t[0], "dr")
+fs, _ = full_slam_bound.problem(ds, "dr")
 _, _, grad = fs.cost(fs.x, True)
 rng = np.random.default_rng(5)
 npose = 4 * fs.n

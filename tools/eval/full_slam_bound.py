@@ -54,19 +54,8 @@ def wrap(a):
     return (a + np.pi) % (2.0 * np.pi) - np.pi
 
 
-class Odometry:
-    """Encoder distance and raw gyro turn, evaluated between any two times."""
-
-    def __init__(self, dataset, sen):
-        self.enc = kmb.load_csv(os.path.join(dataset, "encoders.csv"), 3)
-        gyr = kmb.load_csv(os.path.join(dataset, "gyro.csv"), 2)
-        self.gyro_t = gyr[:, 0]
-        self.gyro_cum = np.concatenate([[0.0], np.cumsum(gyr[1:, 1] * np.diff(self.gyro_t) * 1e-9)])
-        self.still, _ = kmb.standstill_bias(self.enc, self.gyro_t, self.gyro_cum, 20)
-        ticks = self.enc[:, 1:3].astype(np.int64)
-        d = (np.diff(ticks, axis=0) + 2**31) % 2**32 - 2**31
-        self.dist = np.concatenate([[0.0], 0.5 * (d[:, 0] / sen.tpm_l + d[:, 1] / sen.tpm_r)])
-        self.t = self.enc[:, 0]
+class Odometry(kmb.Odometry):
+    """known_map_bound's encoders and gyro, walked between any two times."""
 
     def steps(self, t0, t1):
         """(distance, turn, dt, still) per encoder interval or part of one, from t0 to t1 (ns)."""
@@ -76,9 +65,7 @@ class Odometry:
             b = min(t1, self.t[k])
             span = self.t[k] - self.t[k - 1]
             frac = (b - a) / span if span > 0 else 0.0
-            turn = float(np.interp(b, self.gyro_t, self.gyro_cum) -
-                         np.interp(a, self.gyro_t, self.gyro_cum))
-            yield self.dist[k] * frac, turn, (b - a) * 1e-9, bool(self.still[k])
+            yield self.dist[k] * frac, self.turn(a, b), (b - a) * 1e-9, bool(self.still[k])
             a = b
             k += 1
 
@@ -426,11 +413,9 @@ def rms_sd(variances):
     return math.sqrt(max(float(np.mean(variances)), 0.0)) if len(variances) else 0.0
 
 
-def smooth(dataset, iterations=200, progress=None, start="truth"):
-    """[(t_s, x, y, yaw)] at the frames with features, the landmarks' mean planar error, the number
-    of observations of unknown landmarks, LM iterations, and the RMS position standard deviations
-    at the frames given all the data (smoothing) and given the data up to each (filtering), from
-    the information at the solution."""
+def problem(dataset, start="truth"):
+    """The dataset's full-SLAM problem, unsolved, started from the truth or from dead reckoning,
+    and the true landmarks by track id."""
     sen = kmb.Sensors(dataset)
     if any(k != 0.0 for k in (sen.cam.k1, sen.cam.k2, sen.cam.p1, sen.cam.p2)):
         raise ValueError(f"{dataset}/sensors.yaml: 'distortion' must be zeros (this tool's camera "
@@ -443,7 +428,15 @@ def smooth(dataset, iterations=200, progress=None, start="truth"):
     if not frames:
         raise ValueError(f"{dataset}/features.csv: no frame within the encoder samples")
     landmarks = {int(r[0]): r[1:4].astype(float) for r in lms}
-    fs = FullSlam(sen, odo, frames, truth, landmarks, odo.t[0], start)
+    return FullSlam(sen, odo, frames, truth, landmarks, odo.t[0], start), landmarks
+
+
+def smooth(dataset, iterations=200, progress=None, start="truth"):
+    """[(t_s, x, y, yaw)] at the frames with features, the landmarks' mean planar error, the number
+    of observations of unknown landmarks, LM iterations, and the RMS position standard deviations
+    at the frames given all the data (smoothing) and given the data up to each (filtering), from
+    the information at the solution."""
+    fs, landmarks = problem(dataset, start)
     _, done = fs.solve(iterations, progress)
     n = fs.n
     spread = (rms_sd(smoothing_variances(fs)), rms_sd(filtering_variances(fs)))

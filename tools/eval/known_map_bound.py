@@ -127,6 +127,28 @@ def standstill_bias(enc, gyro_t, gyro_cum, window):
     return still, bias
 
 
+class Odometry:
+    """A dataset's encoders and gyro. Per encoder interval k (sample k-1 to k): the distance
+    travelled, whether the wheels stand still, and the gyro bias taken while still so far; the
+    gyro's integral between any two times."""
+
+    def __init__(self, dataset, sen):
+        self.enc = load_csv(os.path.join(dataset, "encoders.csv"), 3)
+        gyr = load_csv(os.path.join(dataset, "gyro.csv"), 2)
+        self.gyro_t = gyr[:, 0]
+        self.gyro_cum = np.concatenate([[0.0], np.cumsum(gyr[1:, 1] * np.diff(self.gyro_t) * 1e-9)])
+        self.still, self.bias_hat = standstill_bias(self.enc, self.gyro_t, self.gyro_cum, 20)
+        ticks = self.enc[:, 1:3].astype(np.int64)
+        d = (np.diff(ticks, axis=0) + 2**31) % 2**32 - 2**31
+        self.dist = np.concatenate([[0.0], 0.5 * (d[:, 0] / sen.tpm_l + d[:, 1] / sen.tpm_r)])
+        self.t = self.enc[:, 0]
+
+    def turn(self, t0, t1):
+        """Integrated gyro rate from t0 to t1 (ns), radians."""
+        return float(np.interp(t1, self.gyro_t, self.gyro_cum) -
+                     np.interp(t0, self.gyro_t, self.gyro_cum))
+
+
 class Sensors:
     """The calibration of sensors.yaml that the bounds use; errors name the file and key."""
 
@@ -154,13 +176,8 @@ class Sensors:
 def localize(dataset, particles=5000, seed=1, progress=None):
     sen = Sensors(dataset)
     cam = sen.cam
-    tpm_l, tpm_r = sen.tpm_l, sen.tpm_r
-    scale_sd, density, bias_sd = sen.distance_noise, sen.density, sen.bias_sd
-    bias_walk, gyro_scale_sd = sen.bias_walk, sen.gyro_scale_sd
-
     gt = load_csv(os.path.join(dataset, "groundtruth.csv"), 8)
-    enc = load_csv(os.path.join(dataset, "encoders.csv"), 3)
-    gyr = load_csv(os.path.join(dataset, "gyro.csv"), 2)
+    odo = Odometry(dataset, sen)
     feats = load_csv(os.path.join(dataset, "features.csv"), 4)
     lms = load_csv(os.path.join(dataset, "sim_landmarks.csv"), 4)
     landmark = {int(r[0]): r[1:4] for r in lms}
@@ -170,30 +187,23 @@ def localize(dataset, particles=5000, seed=1, progress=None):
     x = np.full(n, gt[0, 1])
     y = np.full(n, gt[0, 2])
     yaw = np.full(n, yaw_of_row(gt[0]))
-    scale = 1.0 + rng.normal(0.0, scale_sd, n)
-    bias = rng.normal(0.0, bias_sd, n)
-    gyro_scale = 1.0 + rng.normal(0.0, gyro_scale_sd, n)
-    gyro_t = gyr[:, 0]
-    gyro_cum = np.concatenate([[0.0], np.cumsum(gyr[1:, 1] * np.diff(gyro_t) * 1e-9)])
-    still, bias_hat = standstill_bias(enc, gyro_t, gyro_cum, 20)
+    scale = 1.0 + rng.normal(0.0, sen.distance_noise, n)
+    bias = rng.normal(0.0, sen.bias_sd, n)
+    gyro_scale = 1.0 + rng.normal(0.0, sen.gyro_scale_sd, n)
 
-    ticks = enc[:, 1:3].astype(np.int64)
     frame_t = feats[:, 0]
     fi = 0
     out = []
-    for k in range(1, len(enc)):
-        t0, t1 = enc[k - 1, 0], enc[k, 0]
+    for k in range(1, len(odo.t)):
+        t0, t1 = odo.t[k - 1], odo.t[k]
         dt = (t1 - t0) * 1e-9
-        d = (ticks[k] - ticks[k - 1] + 2**31) % 2**32 - 2**31
-        dist = 0.5 * (d[0] / tpm_l + d[1] / tpm_r)
-        if still[k]:
+        if odo.still[k]:
             turn = np.zeros(n)
         else:
-            dyaw = np.interp(t1, gyro_t, gyro_cum) - np.interp(t0, gyro_t, gyro_cum)
-            turn = ((dyaw - (bias_hat[k] + bias) * dt) * gyro_scale +
-                    rng.normal(0.0, density * math.sqrt(dt), n))
-            bias = bias + rng.normal(0.0, bias_walk * math.sqrt(dt), n)
-        step = dist * scale
+            turn = ((odo.turn(t0, t1) - (odo.bias_hat[k] + bias) * dt) * gyro_scale +
+                    rng.normal(0.0, sen.density * math.sqrt(dt), n))
+            bias = bias + rng.normal(0.0, sen.bias_walk * math.sqrt(dt), n)
+        step = odo.dist[k] * scale
         mid = yaw + 0.5 * turn
         x += step * np.cos(mid)
         y += step * np.sin(mid)
@@ -225,7 +235,7 @@ def localize(dataset, particles=5000, seed=1, progress=None):
                 yaw = yaw[idx] + rng.normal(0.0, ROUGH_RAD, n)
                 scale, bias, gyro_scale = scale[idx], bias[idx], gyro_scale[idx]
         if progress is not None and k % 2000 == 0:
-            progress(k, len(enc))
+            progress(k, len(odo.t))
     if not out:
         raise ValueError(f"{dataset}/features.csv: no frame within the encoder samples")
     return out
