@@ -264,8 +264,8 @@ fs, _ = full_slam_bound.problem(ds, "dr")
 _, _, grad = fs.cost(fs.x, True)
 rng = np.random.default_rng(5)
 npose = 4 * fs.n
-for name, sel in (("poses", slice(3, npose)), ("landmarks", slice(npose, len(fs.x))),
-                  ("all", slice(3, len(fs.x)))):
+for name, sel in (("poses", slice(0, npose)), ("landmarks", slice(npose, len(fs.x))),
+                  ("all", slice(0, len(fs.x)))):
     v = np.zeros(len(fs.x))
     v[sel] = rng.normal(0.0, 1.0, v[sel].shape)
     v /= np.linalg.norm(v)
