@@ -28,6 +28,7 @@ slam_core::EkfConfig ekf_config(const FirmwareConfig& c) {
   e.young_depth_std_fraction = c.filter.young_depth_std_fraction;
   e.young_depth_given_pose = c.filter.young_depth_given_pose;
   e.depth_bounds = c.filter.depth_bounds;
+  e.invariant_reset = c.filter.invariant_reset;
   e.max_depth_m = c.filter.max_depth_m;
   e.gyro_bias_state = c.filter.gyro_bias_state;
   e.gyro_bias_walk = c.filter.gyro_bias_walk;

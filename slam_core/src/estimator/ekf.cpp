@@ -63,6 +63,8 @@ Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
   cross_.setZero(6, kMaxStateDim);
   new_rows_.setZero(3, kMaxStateDim);
   dx_.setZero(kMaxStateDim);
+  reset_v_.setZero(kMaxStateDim);
+  reset_yaw_col_.setZero(kMaxStateDim);
   reset(Vector6d::Zero(), Matrix6d::Zero());
 }
 
@@ -570,6 +572,11 @@ void Ekf::run_update(std::int64_t budget) {
           x_(5) = wrap_angle(x_(5));
           covariance_columns(0, kPose);
           spent += kPose * (n * (3 * k + 3) + kColumnWork);
+          if (config_.invariant_reset) {
+            begin_invariant_reset(n_, dx_.head(n_));
+            invariant_reset_columns(0, kPose);
+            spent += kPose * 3 * n;
+          }
           cursor_ = kPose;
           phase_ = UpdatePhase::kCovariance;
         }
@@ -579,10 +586,13 @@ void Ekf::run_update(std::int64_t budget) {
         int j = cursor_;
         std::int64_t cost = 0;
         do {
-          cost += (n - j) * (3 * k + 3) + kColumnWork;
+          cost += (n - j) * (3 * k + (config_.invariant_reset ? 6 : 3)) + kColumnWork;
           ++j;
         } while (j < n_ && !over(spent + cost));
         covariance_columns(cursor_, j);
+        if (config_.invariant_reset) {
+          invariant_reset_columns(cursor_, j);
+        }
         spent += cost;
         cursor_ = j;
         if (cursor_ >= n_) {

@@ -43,12 +43,21 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
       return ObservationResult::kNotPositiveDefinite;
     }
   }
+  if (config_.invariant_reset) {
+    dx_.resize(n);
+    dx_.noalias() = K * nu;
+  }
   x_.head(n).noalias() += K * nu;
   x_(3) = wrap_angle(x_(3));
   x_(5) = wrap_angle(x_(5));
   for (int j = 0; j < n; ++j) {
     P_.col(j).segment(j, n - j).noalias() -= K.bottomRows(n - j) * PHt.row(j).transpose();
     P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
+  }
+  if (config_.invariant_reset) {
+    begin_invariant_reset(n, dx_.head(n));
+    invariant_reset_columns(0, n);
+    dx_.resize(kMaxStateDim);
   }
   ++counters_.landmarks_merged;
   delete_landmark(drop);

@@ -171,6 +171,11 @@ class Ekf {
   void covariance_columns(int begin, int end);
   void finalize_update(ObservationResult r);
   bool depth_bounds_violated(int m);
+  // EkfConfig::invariant_reset for the correction dx of the first n rows: P <- M P M^T, M = I +
+  // v e_yaw^T. begin stores v and P's (corrected) yaw column; columns then applies M to columns
+  // [begin, end) of the lower triangle and mirrors them.
+  void begin_invariant_reset(int n, const Eigen::Ref<const Eigen::VectorXd>& dx);
+  void invariant_reset_columns(int begin, int end);
   int drop_out_of_bounds(int m);
 
   EkfConfig config_;
@@ -207,6 +212,9 @@ class Ekf {
   Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxStateDim> cross_;
   Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxStateDim> new_rows_;
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxStateDim, 1> dx_;
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxStateDim, 1> reset_v_;
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxStateDim, 1> reset_yaw_col_;
+  double reset_yaw_var_ = 0.0;
 
   // The pending update (the batch of fuse_obs_, m_ observations, state dimension n_).
   std::int64_t step_budget_ = 0;

@@ -52,6 +52,13 @@ struct EkfConfig {
   // OdometryIncrement::du_dbias. It takes landmark slot 0 (one landmark fewer).
   bool gyro_bias_state = false;
   double gyro_bias_walk = 0.0;
+  // Invariant-EKF reset after every state correction (update or merge): the covariance is carried
+  // from the estimate the correction was linearized at to the corrected one, with the Jacobian of
+  // a rotation about the vertical applied to every position (robot and landmarks). The global
+  // rotation that no measurement can observe then stays unobserved, as in the invariant EKF of
+  // Barrau and Bonnabel (2015); without it each correction claims a little of it (the EKF-SLAM
+  // inconsistency of Huang et al.), and a heading that is lost still looks known.
+  bool invariant_reset = false;
   // Smallest variance allowed on the diagonal of P after an update (the PSD guard).
   double min_variance = 1e-12;
 };

@@ -1,0 +1,188 @@
+#include <cmath>
+#include <cstdio>
+#include <algorithm>
+#include <memory>
+
+#include <gtest/gtest.h>
+#include <Eigen/Dense>
+
+#include "cleanslam/slam_core/ekf.hpp"
+#include "cleanslam/slam_core/prediction_model.hpp"
+
+// EkfConfig::invariant_reset. A rotation of the whole scene about the world's vertical changes no
+// measurement, so no update may gain information along it: with N(x) that rotation's direction at
+// the estimate x, N^T P^-1 N must not grow. A plain EKF linearizes each update at the prior
+// estimate and reports the posterior at the corrected one, where N has moved: it grows.
+namespace cs = cleanslam::slam_core;
+namespace hal = cleanslam::hal;
+
+namespace {
+
+std::unique_ptr<cs::Ekf> make_ekf(bool invariant_reset) {
+  cs::EkfConfig config;
+  config.invariant_reset = invariant_reset;
+  config.consider_young_landmarks = false;
+  config.gate_chi2 = 1e6;
+  config.gate_pixel_chi2 = 0.0;
+  config.depth_bounds = false;
+  auto ekf = std::make_unique<cs::Ekf>(hal::Calibration{}, config);
+  cs::Vector6d pose;
+  pose << 0.3, -0.2, 0.1, 0.01, -0.02, 0.4;
+  cs::Vector6d d;
+  d << 4e-2, 4e-2, 1e-4, 1e-4, 1e-4, 2e-2;
+  ekf->reset(pose, d.asDiagonal());
+  return ekf;
+}
+
+using Direction = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, hal::kMaxStateDim, 1>;
+
+// The rotation generator at the estimate, over the used rows (unused slots are zero).
+Direction rotation_direction(const cs::Ekf& ekf) {
+  const int n = ekf.active_dim();
+  const Direction x = ekf.state().head(n);
+  Direction N = Direction::Zero(n);
+  N(0) = -x(1);
+  N(1) = x(0);
+  N(5) = 1.0;
+  for (int s = 0; s < hal::kMaxLandmarks; ++s) {
+    const int r = 6 + 3 * s;
+    if (r + 2 < n && ekf.slot_used(s)) {
+      N(r) = -x(r + 1);
+      N(r + 1) = x(r);
+    }
+  }
+  return N;
+}
+
+// Translation of the scene along a horizontal axis.
+Direction translation_direction(const cs::Ekf& ekf, int axis) {
+  const int n = ekf.active_dim();
+  Direction T = Direction::Zero(n);
+  T(axis) = 1.0;
+  for (int s = 0; s < hal::kMaxLandmarks; ++s) {
+    const int r = 6 + 3 * s;
+    if (r + 2 < n && ekf.slot_used(s)) {
+      T(r + axis) = 1.0;
+    }
+  }
+  return T;
+}
+
+double information_along(const cs::Ekf& ekf, const Direction& N) {
+  const int n = ekf.active_dim();
+  const Eigen::MatrixXd P = ekf.covariance().topLeftCorner(n, n);
+  const Eigen::LLT<Eigen::MatrixXd> llt(P);
+  EXPECT_EQ(llt.info(), Eigen::Success);
+  return N.dot(llt.solve(N));
+}
+
+// Three landmarks at known depths, then updates from pixels that disagree with the map by a few
+// pixels (a heading error of about a degree): each one corrects the pose and the landmarks.
+// Returns the information along the rotation (and, in translation_growth, along x and y) after
+// the updates over that before; the final covariance in P.
+double information_growth(bool invariant_reset, Eigen::MatrixXd* P = nullptr,
+                          double* translation_growth = nullptr) {
+  auto ekf = make_ekf(invariant_reset);
+  const int a = ekf->initialize_landmark(100.0, 100.0, 2.0, 0.3);
+  const int b = ekf->initialize_landmark(220.0, 130.0, 3.0, 0.3);
+  const int c = ekf->initialize_landmark(160.0, 60.0, 2.5, 0.3);
+  EXPECT_GE(a, 0);
+  EXPECT_GE(b, 0);
+  EXPECT_GE(c, 0);
+  const double before = information_along(*ekf, rotation_direction(*ekf));
+  const double tx = information_along(*ekf, translation_direction(*ekf, 0));
+  const double ty = information_along(*ekf, translation_direction(*ekf, 1));
+  for (int k = 0; k < 6; ++k) {
+    const double du = 4.0 * (k % 2 == 0 ? 1.0 : -0.5);
+    const cs::Observation obs[] = {
+        {a, 100.0 + du, 100.0}, {b, 220.0 + du, 131.0}, {c, 160.0 + du, 59.0}};
+    const cs::UpdateStatus& st = ekf->update(obs, 3);
+    EXPECT_EQ(st.fused, 3) << cs::to_string(st.observations[0].result) << " "
+                           << cs::to_string(st.observations[1].result) << " "
+                           << cs::to_string(st.observations[2].result);
+  }
+  if (P != nullptr) {
+    *P = ekf->covariance().topLeftCorner(ekf->active_dim(), ekf->active_dim());
+  }
+  if (translation_growth != nullptr) {
+    *translation_growth =
+        std::max(information_along(*ekf, translation_direction(*ekf, 0)) / tx,
+                 information_along(*ekf, translation_direction(*ekf, 1)) / ty);
+  }
+  return information_along(*ekf, rotation_direction(*ekf)) / before;
+}
+
+TEST(EkfInvariantReset, UpdatesGainNoInformationAboutTheGlobalRotation) {
+  const double plain = information_growth(false);
+  const double reset = information_growth(true);
+  EXPECT_GT(plain, 1.05) << "the plain EKF should show the spurious information";
+  std::printf("information along the global rotation after 6 updates: plain x%.3f, reset x%.9f\n",
+              plain, reset);
+  EXPECT_NEAR(reset, 1.0, 1e-6);
+}
+
+TEST(EkfInvariantReset, TranslationStaysUnobservedAndCovarianceStaysSymmetricPsd) {
+  Eigen::MatrixXd P;
+  double translation = 0.0;
+  information_growth(true, &P, &translation);
+  EXPECT_NEAR(translation, 1.0, 1e-6);
+  EXPECT_EQ((P - P.transpose()).cwiseAbs().maxCoeff(), 0.0);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(P);
+  EXPECT_GT(eig.eigenvalues().minCoeff(), 0.0);
+}
+
+TEST(EkfInvariantReset, EqualsTheDenseMapOfThePlainPosterior) {
+  // Same data with and without the reset: P_reset = M P_plain M^T, M = I + v e_yaw^T.
+  auto plain = make_ekf(false);
+  auto reset = make_ekf(true);
+  for (cs::Ekf* e : {plain.get(), reset.get()}) {
+    ASSERT_GE(e->initialize_landmark(100.0, 100.0, 2.0, 0.3), 0);
+    ASSERT_GE(e->initialize_landmark(220.0, 130.0, 3.0, 0.3), 0);
+  }
+  const int n = plain->active_dim();
+  const Eigen::VectorXd x0 = plain->state().head(n);
+  const cs::Observation obs[] = {{0, 104.0, 100.0}, {1, 224.0, 131.0}};
+  ASSERT_EQ(plain->update(obs, 2).fused, 2);
+  ASSERT_EQ(reset->update(obs, 2).fused, 2);
+  const Eigen::VectorXd dx = plain->state().head(n) - x0;
+  Eigen::MatrixXd M = Eigen::MatrixXd::Identity(n, n);
+  for (int r : {0, 6, 9}) {
+    M(r, 5) = -dx(r + 1);
+    M(r + 1, 5) = dx(r);
+  }
+  const Eigen::MatrixXd P = plain->covariance().topLeftCorner(n, n);
+  const Eigen::MatrixXd expected = M * P * M.transpose();
+  const Eigen::MatrixXd got = reset->covariance().topLeftCorner(n, n);
+  EXPECT_LT((got - expected).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + expected.cwiseAbs().maxCoeff()));
+  EXPECT_LT((reset->state().head(n) - plain->state().head(n)).cwiseAbs().maxCoeff(), 1e-15);
+}
+
+TEST(EkfInvariantReset, AppliesToMergesToo) {
+  // The merge's correction carries the covariance as an update's does: M P_plain M^T.
+  auto plain = make_ekf(false);
+  auto reset = make_ekf(true);
+  for (cs::Ekf* e : {plain.get(), reset.get()}) {
+    ASSERT_EQ(e->initialize_landmark(140.0, 110.0, 2.0, 0.3), 0);
+    ASSERT_EQ(e->initialize_landmark(250.0, 60.0, 2.5, 0.3), 1);
+    ASSERT_EQ(e->initialize_landmark(146.0, 109.0, 2.2, 0.3), 2);
+  }
+  const int n = plain->active_dim();
+  const Eigen::VectorXd x0 = plain->state().head(n);
+  ASSERT_EQ(plain->merge_landmarks(0, 2, 0.0, 0.01), cs::ObservationResult::kFused);
+  ASSERT_EQ(reset->merge_landmarks(0, 2, 0.0, 0.01), cs::ObservationResult::kFused);
+  const int m = plain->active_dim();
+  ASSERT_EQ(m, 12);
+  const Eigen::VectorXd dx = plain->state().head(m) - x0.head(m);
+  Eigen::MatrixXd M = Eigen::MatrixXd::Identity(m, m);
+  for (int r : {0, 6, 9}) {
+    M(r, 5) = -dx(r + 1);
+    M(r + 1, 5) = dx(r);
+  }
+  const Eigen::MatrixXd P = plain->covariance().topLeftCorner(m, m);
+  const Eigen::MatrixXd expected = M * P * M.transpose();
+  const Eigen::MatrixXd got = reset->covariance().topLeftCorner(m, m);
+  EXPECT_GT(dx.segment<2>(6).norm(), 1e-2);
+  EXPECT_LT((got - expected).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + expected.cwiseAbs().maxCoeff()));
+}
+
+}  // namespace
