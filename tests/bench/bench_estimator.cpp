@@ -25,9 +25,11 @@ cs::OdometryIncrement step_increment() {
 }
 
 // An EKF with `landmarks` slots in use, spread over the image, after some motion.
-std::unique_ptr<cs::Ekf> make_filter(int landmarks) {
+std::unique_ptr<cs::Ekf> make_filter(int landmarks, bool invariant_reset = false) {
   hal::Calibration calibration;
-  auto ekf = std::make_unique<cs::Ekf>(calibration, cs::EkfConfig{});
+  cs::EkfConfig config;
+  config.invariant_reset = invariant_reset;
+  auto ekf = std::make_unique<cs::Ekf>(calibration, config);
   ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6);
   for (int i = 0; ekf->landmark_count() < landmarks && i < 10 * hal::kMaxLandmarks; ++i) {
     if (i % 10 == 0) {
@@ -51,8 +53,9 @@ void BM_Predict(benchmark::State& state) {
 }
 BENCHMARK(BM_Predict)->Arg(25)->Arg(100)->Arg(128);
 
+// range(1): with EkfConfig::invariant_reset.
 void BM_Update10(benchmark::State& state) {
-  auto ekf = make_filter(static_cast<int>(state.range(0)));
+  auto ekf = make_filter(static_cast<int>(state.range(0)), state.range(1) != 0);
   std::array<cs::Observation, 10> obs{};
   int m = 0;
   for (int slot = 0; slot < hal::kMaxLandmarks && m < 10; ++slot) {
@@ -69,7 +72,10 @@ void BM_Update10(benchmark::State& state) {
   state.counters["state_dim"] = ekf->active_dim();
   state.counters["fused"] = fused;
 }
-BENCHMARK(BM_Update10)->Arg(25)->Arg(50)->Arg(100)->Arg(128)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Update10)
+    ->ArgsProduct({{25, 50, 100, 128}, {0, 1}})
+    ->ArgNames({"landmarks", "invariant_reset"})
+    ->Unit(benchmark::kMicrosecond);
 
 // Initializes one landmark into a map of range(0) landmarks and deletes it again (the pair is
 // timed; deletion is two row/column clears).
@@ -119,17 +125,19 @@ __attribute__((noinline)) void counted_initialize(cs::Ekf& ekf, int calls) {
 }
 
 int count_instructions(const char* op, int landmarks, int calls) {
-  auto ekf = make_filter(landmarks);
+  auto ekf = make_filter(landmarks, std::strcmp(op, "update_invariant") == 0);
   if (std::strcmp(op, "predict") == 0) {
     counted_predict(*ekf, calls);
-  } else if (std::strcmp(op, "update") == 0) {
+  } else if (std::strcmp(op, "update") == 0 || std::strcmp(op, "update_invariant") == 0) {
     int m = 0;
     const auto obs = ten_observations(*ekf, m);
     counted_update(*ekf, obs.data(), m, calls);
   } else if (std::strcmp(op, "initialize") == 0) {
     counted_initialize(*ekf, calls);
   } else {
-    std::fprintf(stderr, "bench_estimator: unknown op '%s' (predict, update, initialize)\n", op);
+    std::fprintf(
+        stderr,
+        "bench_estimator: unknown op '%s' (predict, update, update_invariant, initialize)\n", op);
     return 2;
   }
   return 0;
@@ -138,7 +146,7 @@ int count_instructions(const char* op, int landmarks, int calls) {
 }  // namespace
 
 // bench_estimator [google benchmark flags]
-// bench_estimator --count OP LANDMARKS CALLS   (OP: predict, update, initialize)
+// bench_estimator --count OP LANDMARKS CALLS   (OP: predict, update, update_invariant, initialize)
 int main(int argc, char** argv) {
   if (argc == 5 && std::strcmp(argv[1], "--count") == 0) {
     return count_instructions(argv[2], std::atoi(argv[3]), std::atoi(argv[4]));

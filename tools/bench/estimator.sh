@@ -37,5 +37,8 @@ count predict 100 '*counted_predict*'
 for n in 25 50 100 128; do
   count update "$n" '*counted_update*'
 done
+for n in 100 128; do
+  count update_invariant "$n" '*counted_update*'
+done
 count initialize 25 '*counted_initialize*'
 count initialize 100 '*counted_initialize*'

@@ -1,6 +1,6 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <algorithm>
 #include <memory>
 
 #include <gtest/gtest.h>
@@ -105,9 +105,8 @@ double information_growth(bool invariant_reset, Eigen::MatrixXd* P = nullptr,
     *P = ekf->covariance().topLeftCorner(ekf->active_dim(), ekf->active_dim());
   }
   if (translation_growth != nullptr) {
-    *translation_growth =
-        std::max(information_along(*ekf, translation_direction(*ekf, 0)) / tx,
-                 information_along(*ekf, translation_direction(*ekf, 1)) / ty);
+    *translation_growth = std::max(information_along(*ekf, translation_direction(*ekf, 0)) / tx,
+                                   information_along(*ekf, translation_direction(*ekf, 1)) / ty);
   }
   return information_along(*ekf, rotation_direction(*ekf)) / before;
 }

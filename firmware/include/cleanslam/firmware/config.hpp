@@ -53,7 +53,7 @@ struct FilterSettings {
   // The merge's chi-square gate (3 dof); 0: none (track ids make the two entries the same point).
   double remap_merge_gate_chi2 = 0.0;
   // The invariant EKF's covariance reset after each correction (slam_core::EkfConfig).
-  bool invariant_reset = false;
+  bool invariant_reset = true;
 };
 
 struct FrontendSettings {
