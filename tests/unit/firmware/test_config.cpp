@@ -150,6 +150,17 @@ TEST(Config, RemapKeysParseAndAreRangeChecked) {
   EXPECT_NE(all.find("b.yaml:5: filter.remap_merge_gate_chi2"), std::string::npos) << all;
 }
 
+TEST(Config, InvariantResetIsOnByDefaultAndParses) {
+  EXPECT_TRUE(FirmwareConfig{}.filter.invariant_reset);
+  const ConfigResult r = parse_config("filter:\n  invariant_reset: false\n", "i.yaml", {});
+  ASSERT_TRUE(r.ok()) << joined(r.errors);
+  EXPECT_FALSE(r.config.filter.invariant_reset);
+  const ConfigResult bad = parse_config("filter:\n  invariant_reset: 2\n", "b.yaml", {});
+  ASSERT_EQ(bad.errors.size(), 1U) << joined(bad.errors);
+  EXPECT_NE(joined(bad.errors).find("b.yaml:2: filter.invariant_reset"), std::string::npos)
+      << joined(bad.errors);
+}
+
 TEST(Config, GyroErrorsFromCalibrationKeysParseAndAreRangeChecked) {
   const ConfigResult r = parse_config(
       "calibration:\n  gyro:\n    scale_error: 0.02\n    bias_walk: 0.0005\n"

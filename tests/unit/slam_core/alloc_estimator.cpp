@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -192,6 +193,26 @@ TEST(EstimatorAllocation, EkfChunkedUpdatesAllocateNothing) {
   EXPECT_GT(run.continued, 10 * run.updates_applied);  // many bounded steps per update
   EXPECT_TRUE(run.finite);
   EXPECT_TRUE(ekf->state().allFinite());
+}
+
+// The firmware's default: the invariant reset after every update and merge, one-shot and chunked.
+TEST(EstimatorAllocation, EkfWithInvariantResetAllocatesNothing) {
+  hal::Calibration calibration;
+  cs::EkfConfig config;
+  config.invariant_reset = true;
+  for (const std::int64_t step : {std::int64_t{0}, std::int64_t{20000}}) {
+    auto ekf = std::make_unique<cs::Ekf>(calibration, config);
+    ekf->set_update_step(step);
+    ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6);
+    EkfRun run;
+    run.ekf = ekf.get();
+    run_with_small_stack(run);
+    EXPECT_EQ(run.allocations, 0U) << "step " << step;
+    EXPECT_GT(run.updates_applied, 50);
+    EXPECT_GT(run.merged, 5);
+    EXPECT_TRUE(run.finite);
+    EXPECT_TRUE(ekf->state().allFinite());
+  }
 }
 
 TEST(EstimatorAllocation, EkfWithGyroBiasStateAndPoseGivenYoungTestAllocatesNothing) {

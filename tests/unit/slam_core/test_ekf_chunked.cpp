@@ -21,8 +21,10 @@ class EkfChunkedTest : public ::testing::Test {
  protected:
   void SetUp() override {
     calibration_.camera.distortion = {-0.1, 0.02, 0.0005, -0.0003};
-    one_ = std::make_unique<cs::Ekf>(calibration_, cs::EkfConfig{});
-    chunked_ = std::make_unique<cs::Ekf>(calibration_, cs::EkfConfig{});
+    cs::EkfConfig config;
+    config.invariant_reset = invariant_reset_;
+    one_ = std::make_unique<cs::Ekf>(calibration_, config);
+    chunked_ = std::make_unique<cs::Ekf>(calibration_, config);
     for (cs::Ekf* e : {one_.get(), chunked_.get()}) {
       cs::Vector6d pose;
       pose << 0.3, -0.2, 0.1, 0.01, -0.02, 0.4;
@@ -103,6 +105,7 @@ class EkfChunkedTest : public ::testing::Test {
   }
 
   hal::Calibration calibration_;
+  bool invariant_reset_ = false;  // EkfConfig::invariant_reset: SetUp() again after a change
   std::unique_ptr<cs::Ekf> one_;
   std::unique_ptr<cs::Ekf> chunked_;
 };
@@ -123,74 +126,82 @@ TEST_F(EkfChunkedTest, WithoutBudgetTheUpdateCompletesAtOnce) {
 }
 
 TEST_F(EkfChunkedTest, ChunkedUpdatesEqualOneShotUpdates) {
-  for (const std::int64_t budget : {std::int64_t{1}, std::int64_t{20000}, std::int64_t{300000}}) {
-    SetUp();
-    chunked_->set_update_step(budget);
-    both(&move);
-    both(&add_landmarks);
-    ASSERT_GT(one_->landmark_count(), 90);
-    int previous_calls = 1 << 30;
-    for (int round = 0; round < 6; ++round) {
+  for (const bool invariant_reset : {false, true}) {
+    invariant_reset_ = invariant_reset;
+    for (const std::int64_t budget : {std::int64_t{1}, std::int64_t{20000}, std::int64_t{300000}}) {
+      SetUp();
+      chunked_->set_update_step(budget);
       both(&move);
-      std::array<cs::Observation, hal::kMaxObservationsPerFrame> obs{};
-      const int m = observe((round * 16) % kLandmarks, obs);
-      ASSERT_GT(m, 4);
-      const cs::UpdateStatus& a = one_->update(obs.data(), m);
-      chunked_->update(obs.data(), m);
-      EXPECT_TRUE(chunked_->update_pending());
-      const int calls = complete();
-      const cs::UpdateStatus& b = chunked_->last_update();
-      ASSERT_GT(a.fused, 0);
-      EXPECT_EQ(a.fused, b.fused);
-      EXPECT_EQ(a.rejected, b.rejected);
-      EXPECT_EQ(a.applied, b.applied);
-      for (int i = 0; i < a.count; ++i) {
-        EXPECT_EQ(a.observations[static_cast<std::size_t>(i)].result,
-                  b.observations[static_cast<std::size_t>(i)].result);
+      both(&add_landmarks);
+      ASSERT_GT(one_->landmark_count(), 90);
+      int previous_calls = 1 << 30;
+      for (int round = 0; round < 6; ++round) {
+        both(&move);
+        std::array<cs::Observation, hal::kMaxObservationsPerFrame> obs{};
+        const int m = observe((round * 16) % kLandmarks, obs);
+        ASSERT_GT(m, 4);
+        const cs::UpdateStatus& a = one_->update(obs.data(), m);
+        chunked_->update(obs.data(), m);
+        EXPECT_TRUE(chunked_->update_pending());
+        const int calls = complete();
+        const cs::UpdateStatus& b = chunked_->last_update();
+        ASSERT_GT(a.fused, 0);
+        EXPECT_EQ(a.fused, b.fused);
+        EXPECT_EQ(a.rejected, b.rejected);
+        EXPECT_EQ(a.applied, b.applied);
+        for (int i = 0; i < a.count; ++i) {
+          EXPECT_EQ(a.observations[static_cast<std::size_t>(i)].result,
+                    b.observations[static_cast<std::size_t>(i)].result);
+        }
+        EXPECT_LE(difference(), 1e-12)
+            << "budget " << budget << " round " << round << " invariant " << invariant_reset;
+        // The whole update is many calls under a small budget, a few under a large one.
+        EXPECT_GT(calls, budget == 1 ? chunked_->active_dim() : 2);
+        if (round == 0) {
+          previous_calls = calls;
+        }
       }
-      EXPECT_LE(difference(), 1e-12) << "budget " << budget << " round " << round;
-      // The whole update is many calls under a small budget, a few under a large one.
-      EXPECT_GT(calls, budget == 1 ? chunked_->active_dim() : 2);
-      if (round == 0) {
-        previous_calls = calls;
-      }
+      EXPECT_GT(previous_calls, 1);
+      EXPECT_EQ(one_->counters().updates_applied, chunked_->counters().updates_applied);
+      EXPECT_EQ(one_->counters().consider_observations, chunked_->counters().consider_observations);
     }
-    EXPECT_GT(previous_calls, 1);
-    EXPECT_EQ(one_->counters().updates_applied, chunked_->counters().updates_applied);
-    EXPECT_EQ(one_->counters().consider_observations, chunked_->counters().consider_observations);
   }
 }
 
 TEST_F(EkfChunkedTest, PoseIsPriorOrPosteriorWhilePending) {
-  chunked_->set_update_step(20000);
-  both(&move);
-  both(&add_landmarks);
-  both(&move);
-  std::array<cs::Observation, hal::kMaxObservationsPerFrame> obs{};
-  const int m = observe(0, obs);
-  const cs::Vector6d prior = chunked_->camera_pose();
-  const cs::Matrix6d prior_cov = chunked_->pose_covariance();
-  one_->update(obs.data(), m);
-  const cs::Vector6d posterior = one_->camera_pose();
-  const cs::Matrix6d posterior_cov = one_->pose_covariance();
-  ASSERT_GT((posterior - prior).norm(), 0.0);
-  chunked_->update(obs.data(), m);
-  int prior_steps = 0;
-  int posterior_steps = 0;
-  while (chunked_->update_pending()) {
-    if (chunked_->camera_pose() == prior) {
-      EXPECT_EQ(chunked_->pose_covariance(), prior_cov);
-      ++prior_steps;
-    } else {
-      EXPECT_EQ(chunked_->camera_pose(), posterior);
-      EXPECT_EQ(chunked_->pose_covariance(), posterior_cov);
-      ++posterior_steps;
+  for (const bool invariant_reset : {false, true}) {
+    invariant_reset_ = invariant_reset;
+    SetUp();
+    chunked_->set_update_step(20000);
+    both(&move);
+    both(&add_landmarks);
+    both(&move);
+    std::array<cs::Observation, hal::kMaxObservationsPerFrame> obs{};
+    const int m = observe(0, obs);
+    const cs::Vector6d prior = chunked_->camera_pose();
+    const cs::Matrix6d prior_cov = chunked_->pose_covariance();
+    one_->update(obs.data(), m);
+    const cs::Vector6d posterior = one_->camera_pose();
+    const cs::Matrix6d posterior_cov = one_->pose_covariance();
+    ASSERT_GT((posterior - prior).norm(), 0.0);
+    chunked_->update(obs.data(), m);
+    int prior_steps = 0;
+    int posterior_steps = 0;
+    while (chunked_->update_pending()) {
+      if (chunked_->camera_pose() == prior) {
+        EXPECT_EQ(chunked_->pose_covariance(), prior_cov);
+        ++prior_steps;
+      } else {
+        EXPECT_EQ(chunked_->camera_pose(), posterior);
+        EXPECT_EQ(chunked_->pose_covariance(), posterior_cov);
+        ++posterior_steps;
+      }
+      chunked_->continue_update();
     }
-    chunked_->continue_update();
+    EXPECT_GT(prior_steps, 0);      // the gain rows
+    EXPECT_GT(posterior_steps, 0);  // the covariance columns
+    EXPECT_LE(difference(), 1e-12);
   }
-  EXPECT_GT(prior_steps, 0);      // the gain rows
-  EXPECT_GT(posterior_steps, 0);  // the covariance columns
-  EXPECT_LE(difference(), 1e-12);
 }
 
 TEST_F(EkfChunkedTest, CallsThatChangeTheFilterFinishAPendingUpdateFirst) {
