@@ -81,6 +81,18 @@ double relative_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return d / (1.0 + m);
 }
 
+// M P M^T with M = I + v e_yaw^T, v = e_z x dx in the camera's position block and in every
+// landmark slot's (all slots in use).
+Eigen::MatrixXd dense_reset(const Eigen::MatrixXd& P, const Eigen::VectorXd& dx) {
+  const Eigen::Index n = P.rows();
+  Eigen::MatrixXd M = Eigen::MatrixXd::Identity(n, n);
+  for (Eigen::Index r = 0; r + 2 < n; r += (r == 0 ? 6 : 3)) {
+    M(r, 5) = -dx(r + 1);
+    M(r + 1, 5) = dx(r);
+  }
+  return M * P * M.transpose();
+}
+
 double information_along(const cs::Ekf& ekf, const Direction& N) {
   const int n = ekf.active_dim();
   const Eigen::MatrixXd P = ekf.covariance().topLeftCorner(n, n);
@@ -159,13 +171,7 @@ TEST(EkfInvariantReset, EqualsTheDenseMapOfThePlainPosterior) {
   ASSERT_EQ(plain->update(obs, 2).fused, 2);
   ASSERT_EQ(reset->update(obs, 2).fused, 2);
   const Eigen::VectorXd dx = plain->state().head(n) - x0;
-  Eigen::MatrixXd M = Eigen::MatrixXd::Identity(n, n);
-  for (int r : {0, 6, 9}) {
-    M(r, 5) = -dx(r + 1);
-    M(r + 1, 5) = dx(r);
-  }
-  const Eigen::MatrixXd P = plain->covariance().topLeftCorner(n, n);
-  const Eigen::MatrixXd expected = M * P * M.transpose();
+  const Eigen::MatrixXd expected = dense_reset(plain->covariance().topLeftCorner(n, n), dx);
   const Eigen::MatrixXd got = reset->covariance().topLeftCorner(n, n);
   EXPECT_LT(relative_difference(got, expected), 1e-12);
   EXPECT_LT(relative_difference(reset->state().head(n), plain->state().head(n)), 1e-15);
@@ -191,13 +197,7 @@ TEST(EkfInvariantReset, AppliesToMergesToo) {
   const int m = plain->active_dim();
   ASSERT_EQ(m, 12);
   const Eigen::VectorXd dx = plain->state().head(m) - x0.head(m);
-  Eigen::MatrixXd M = Eigen::MatrixXd::Identity(m, m);
-  for (int r : {0, 6, 9}) {
-    M(r, 5) = -dx(r + 1);
-    M(r + 1, 5) = dx(r);
-  }
-  const Eigen::MatrixXd P = plain->covariance().topLeftCorner(m, m);
-  const Eigen::MatrixXd expected = M * P * M.transpose();
+  const Eigen::MatrixXd expected = dense_reset(plain->covariance().topLeftCorner(m, m), dx);
   const Eigen::MatrixXd got = reset->covariance().topLeftCorner(m, m);
   EXPECT_GT(dx.segment<2>(6).norm(), 1e-2);
   EXPECT_LT(relative_difference(got, expected), 1e-12);
