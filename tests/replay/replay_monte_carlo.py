@@ -32,11 +32,18 @@ def check(cond, what):
         print(f"FAIL: {what}", file=sys.stderr)
 
 
+# The tools' own output goes to this transcript, so that the failures lead the test's output
+# (CI shows its beginning); the transcript's tail follows them.
+transcript_path = os.path.join(work, "transcript.txt")
+transcript = open(transcript_path, "w", encoding="utf-8")
+
+
 def run(script, *args):
     cmd = [sys.executable, os.path.join(EVAL, script), "--bin", bin_dir, "--emulator", emulator,
            *args]
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
-    print(f"$ {' '.join(cmd)}\n-> {p.returncode}\n{p.stdout}{p.stderr}", file=sys.stderr)
+    transcript.write(f"$ {' '.join(cmd)}\n-> {p.returncode}\n{p.stdout}{p.stderr}\n")
+    transcript.flush()
     return p
 
 
@@ -304,5 +311,13 @@ check_bad_sensors(full_slam, re.sub(r"distortion:.*", "distortion: [0.1, 0.0, 0.
 p = full_slam(ds, "--iterations", "0")
 check(p.returncode == 2, f"full SLAM no iterations: exit {p.returncode}")
 
-print(f"{len(failures)} failure(s)" if failures else "all checks passed", file=sys.stderr)
+transcript.close()
+if failures:
+    print(f"{len(failures)} failure(s):", *failures, sep="\n  ", file=sys.stderr)
+    with open(transcript_path, encoding="utf-8") as f:
+        tail = f.readlines()[-150:]
+    print(f"the tools' output, last {len(tail)} lines of {transcript_path}:", file=sys.stderr)
+    sys.stderr.writelines(tail)
+else:
+    print(f"all checks passed; the tools' output is in {transcript_path}", file=sys.stderr)
 sys.exit(1 if failures else 0)
