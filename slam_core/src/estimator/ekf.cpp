@@ -877,7 +877,8 @@ hal::PoseEstimate Ekf::body_pose_estimate(hal::TimeNs t_ns) const {
     }
   }
   out.landmarks_in_map = static_cast<std::uint16_t>(landmark_count_);
-  out.landmarks_in_view = static_cast<std::uint16_t>(status_.fused);
+  // While an update is pending, the landmarks it is fusing.
+  out.landmarks_in_view = static_cast<std::uint16_t>(update_pending() ? m_ : status_.fused);
   if (landmark_count_ < 3) {
     out.health |= hal::kFewLandmarks;
   }

@@ -184,16 +184,21 @@ TEST_F(EkfChunkedTest, PoseIsPriorOrPosteriorWhilePending) {
     const cs::Vector6d posterior = one_->camera_pose();
     const cs::Matrix6d posterior_cov = one_->pose_covariance();
     ASSERT_GT((posterior - prior).norm(), 0.0);
+    const int in_view = one_->body_pose_estimate(0).landmarks_in_view;
+    ASSERT_GT(in_view, 0);
     chunked_->update(obs.data(), m);
     int prior_steps = 0;
     int posterior_steps = 0;
     while (chunked_->update_pending()) {
+      const int view = chunked_->body_pose_estimate(0).landmarks_in_view;
       if (chunked_->camera_pose() == prior) {
         EXPECT_EQ(chunked_->pose_covariance(), prior_cov);
+        EXPECT_GE(view, in_view);  // the candidates; the depth bounds may drop some
         ++prior_steps;
       } else {
         EXPECT_EQ(chunked_->camera_pose(), posterior);
         EXPECT_EQ(chunked_->pose_covariance(), posterior_cov);
+        EXPECT_EQ(view, in_view);
         ++posterior_steps;
       }
       chunked_->continue_update();
