@@ -360,6 +360,14 @@ void print_summary(const Loop& loop, std::FILE* out) {
       static_cast<unsigned long long>(s.frames_done),
       static_cast<unsigned long long>(s.predictions), static_cast<unsigned long long>(s.poses),
       static_cast<unsigned long long>(s.update_records));
+  const MapCounters m = loop.estimator().map_counters();
+  std::fprintf(
+      out,
+      "cleanslam: map: %llu landmarks initialized, %llu replaced, %llu deleted, %llu "
+      "merged, %llu merges gated\n",
+      static_cast<unsigned long long>(m.initialized), static_cast<unsigned long long>(m.replaced),
+      static_cast<unsigned long long>(m.deleted), static_cast<unsigned long long>(m.merged),
+      static_cast<unsigned long long>(m.merges_gated));
   for (std::size_t i = 0; i < kRejectCount; ++i) {
     if (s.rejects.n[i] > 0) {
       std::fprintf(out, "cleanslam: rejected %s: %llu\n", to_string(static_cast<Reject>(i)),

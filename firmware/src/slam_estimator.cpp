@@ -438,6 +438,17 @@ hal::PoseEstimate SlamEstimator::dead_reckoning_pose(hal::TimeNs t_ns) const {
   return p;
 }
 
+MapCounters SlamEstimator::map_counters() const {
+  const slam_core::EkfCounters& c = ekf_.counters();
+  MapCounters m;
+  m.initialized = c.landmarks_initialized;
+  m.replaced = c.landmarks_replaced;
+  m.deleted = c.landmarks_deleted;
+  m.merged = c.landmarks_merged;
+  m.merges_gated = c.merges_gated;
+  return m;
+}
+
 int SlamEstimator::landmarks(LandmarkEstimate* out, int max) const {
   int n = 0;
   for (int s = 0; s < hal::kMaxLandmarks && n < max; ++s) {

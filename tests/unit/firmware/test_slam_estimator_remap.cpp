@@ -49,6 +49,8 @@ TEST(SlamEstimatorRemap, AnUncertainReSightingIsMappedAgainAndMergedWhenItsTrack
   EXPECT_TRUE(r[1].slot == second || !run.estimator.ekf().slot_used(second));
   EXPECT_EQ(run.estimator.ekf().landmark_count(), 2);
   EXPECT_EQ(run.estimator.ekf().counters().landmarks_merged, 1U);
+  EXPECT_EQ(run.estimator.map_counters().merged, 1U);
+  EXPECT_EQ(run.estimator.map_counters().initialized, 3U);
 }
 
 TEST(SlamEstimatorRemap, AnEarlierEntryRecycledByAFullPoolIsNotMergedInto) {

@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -10,6 +11,7 @@
 
 #include "allocation_counter.hpp"
 #include "cleanslam/firmware/loop.hpp"
+#include "cleanslam/firmware/program.hpp"
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/slam_estimator.hpp"
 #include "cleanslam/sim_hal/dataset_source.hpp"
@@ -176,6 +178,38 @@ TEST(SlamLoop, ImageFramesGoThroughThePipelineInBoundedStepsWithoutAllocation) {
   EXPECT_GT(iterations_with_frame_work, 3 * loop.stats().frames_done);  // several steps a frame
   EXPECT_GT(estimator.ekf().counters().updates_applied, 10U);
   EXPECT_GT(estimator.ekf().landmark_count(), 5);
+}
+
+// The summary at the end of a run counts how the map changed, as the filter counted it.
+TEST(SlamLoop, SummaryCountsTheMapsChanges) {
+  SimulatedRun run(30.0);
+  ASSERT_TRUE(run.ok);
+  FirmwareConfig config;
+  config.calibration = run.calibration;
+  config.filter.max_landmarks = 8;  // a small pool: landmarks are replaced
+  SlamEstimator estimator(config);
+  Loop loop(config.loop, estimator);
+  loop.add_source(&run.source);
+  firmware::VirtualClock clock;
+  firmware::run_virtual(loop, clock, false, nullptr);
+  const auto& c = estimator.ekf().counters();
+  ASSERT_GT(c.landmarks_initialized, 8U);
+  ASSERT_GT(c.landmarks_replaced, 0U);
+  std::FILE* f = std::tmpfile();
+  ASSERT_NE(f, nullptr);
+  firmware::print_summary(loop, f);
+  std::rewind(f);
+  std::string text;
+  for (int ch = std::fgetc(f); ch != EOF; ch = std::fgetc(f)) {
+    text.push_back(static_cast<char>(ch));
+  }
+  std::fclose(f);
+  const std::string line = "cleanslam: map: " + std::to_string(c.landmarks_initialized) +
+                           " landmarks initialized, " + std::to_string(c.landmarks_replaced) +
+                           " replaced, " + std::to_string(c.landmarks_deleted) + " deleted, " +
+                           std::to_string(c.landmarks_merged) + " merged, " +
+                           std::to_string(c.merges_gated) + " merges gated\n";
+  EXPECT_NE(text.find(line), std::string::npos) << text;
 }
 
 // The estimator on the loop is deterministic: two runs, the same poses bit for bit.

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 
 #include "cleanslam/hal/frame.hpp"
 #include "cleanslam/hal/log_format.hpp"
@@ -13,6 +14,15 @@ struct LandmarkEstimate {
   int slot = -1;
   std::array<double, 3> position_m{};
   std::array<double, 9> covariance{};  // row-major
+};
+
+// How the map changed over the run.
+struct MapCounters {
+  std::uint64_t initialized = 0;
+  std::uint64_t replaced = 0;  // a full pool's least useful landmark, for a new one
+  std::uint64_t deleted = 0;   // merged ones' second entries included
+  std::uint64_t merged = 0;    // a remapped landmark joined to its earlier entry
+  std::uint64_t merges_gated = 0;
 };
 
 // What the loop drives: dead reckoning, the EKF and the frame pipeline. The loop validates the
@@ -42,6 +52,7 @@ class Estimator {
   [[nodiscard]] virtual hal::PoseEstimate dead_reckoning_pose(hal::TimeNs t_ns) const = 0;
   // The map: fills at most `max` landmarks, returns how many.
   virtual int landmarks(LandmarkEstimate* out, int max) const = 0;
+  [[nodiscard]] virtual MapCounters map_counters() const { return {}; }
 };
 
 }  // namespace cleanslam::firmware

@@ -84,6 +84,7 @@ class Loop {
 
   [[nodiscard]] const std::vector<hal::SensorSource*>& sources() const { return sources_; }
   [[nodiscard]] const LoopStats& stats() const { return stats_; }
+  [[nodiscard]] const Estimator& estimator() const { return estimator_; }
   [[nodiscard]] std::uint32_t health() const { return health_; }
   void count(Reject r, std::uint64_t n = 1);
 

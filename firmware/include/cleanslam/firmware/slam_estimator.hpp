@@ -46,6 +46,7 @@ class SlamEstimator final : public Estimator {
   [[nodiscard]] bool standing_still() const override;
   [[nodiscard]] hal::PoseEstimate dead_reckoning_pose(hal::TimeNs t_ns) const override;
   int landmarks(LandmarkEstimate* out, int max) const override;
+  [[nodiscard]] MapCounters map_counters() const override;
 
   [[nodiscard]] const slam_core::Ekf& ekf() const { return ekf_; }
   [[nodiscard]] std::uint64_t image_frames() const { return image_frames_; }
