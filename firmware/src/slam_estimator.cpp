@@ -385,6 +385,7 @@ void SlamEstimator::merge_remapped() {
     const std::int64_t track = slot_owner_[ss];
     merge_target_[ss] = -1;
     const hal::FeatureObservation f{track, 0.0, 0.0};
+    const int records_before = record_count_;
     if (ekf_.merge_landmarks(earlier, s, config_.filter.remap_merge_gate_chi2) ==
         slam_core::ObservationResult::kFused) {
       slot_owner_[static_cast<std::size_t>(earlier)] = track;
@@ -393,6 +394,10 @@ void SlamEstimator::merge_remapped() {
     } else {
       ekf_.delete_landmark(earlier);
       record(f, lf::UpdateStatus::kMergeGated, s);
+    }
+    if (record_count_ > records_before && ekf_.last_merge_test_ratio() >= 0.0) {
+      records_[static_cast<std::size_t>(records_before)].mahalanobis2 =
+          ekf_.last_merge_test_ratio();
     }
   }
 }

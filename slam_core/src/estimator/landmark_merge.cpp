@@ -10,6 +10,7 @@ namespace cleanslam::slam_core {
 // in the covariance the two estimates carry. P H^T is the difference of two column blocks.
 ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, double merge_std_m) {
   finish_update();
+  merge_test_ratio_ = -1.0;
   if (!valid_used_slot(keep) || !valid_used_slot(drop) || keep == drop || !(merge_std_m >= 0.0) ||
       !std::isfinite(merge_std_m)) {
     return ObservationResult::kInvalidSlot;
@@ -27,7 +28,8 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
     return ObservationResult::kNotPositiveDefinite;
   }
   const Eigen::Vector3d nu = x_.segment<3>(b) - x_.segment<3>(a);
-  if (gate_chi2 > 0.0 && !(nu.dot(llt.solve(nu)) <= gate_chi2)) {
+  merge_test_ratio_ = nu.dot(llt.solve(nu));
+  if (gate_chi2 > 0.0 && !(merge_test_ratio_ <= gate_chi2)) {
     ++counters_.merges_gated;
     return ObservationResult::kGate;
   }

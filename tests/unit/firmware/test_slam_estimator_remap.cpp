@@ -45,6 +45,8 @@ TEST(SlamEstimatorRemap, AnUncertainReSightingIsMappedAgainAndMergedWhenItsTrack
   EXPECT_EQ(r[0].status, lf::UpdateStatus::kMerged);
   EXPECT_EQ(r[0].track_id, 7);
   EXPECT_EQ(r[0].slot, first);
+  EXPECT_EQ(r[0].mahalanobis2, run.estimator.ekf().last_merge_test_ratio());
+  EXPECT_GT(r[0].mahalanobis2, 0.0);
   EXPECT_EQ(r[1].status, lf::UpdateStatus::kInitialized);
   EXPECT_TRUE(r[1].slot == second || !run.estimator.ekf().slot_used(second));
   EXPECT_EQ(run.estimator.ekf().landmark_count(), 2);

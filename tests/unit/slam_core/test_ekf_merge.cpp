@@ -44,8 +44,13 @@ TEST_F(EkfMergeTest, EqualsTheDenseKalmanUpdateAndFreesTheDroppedSlot) {
   const Eigen::MatrixXd K = P * H.transpose() * S.inverse();
   const Eigen::VectorXd x_ref = x + K * (-(H * x));
   const Eigen::MatrixXd P_ref = P - K * S * K.transpose();
+  const Eigen::Vector3d nu = -(H * x);
+  const double ratio = nu.dot(S.inverse() * nu);
 
+  EXPECT_EQ(ekf_.last_merge_test_ratio(), -1.0);
   ASSERT_EQ(ekf_.merge_landmarks(keep, drop, 11.34, r), cs::ObservationResult::kFused);
+  EXPECT_NEAR(ekf_.last_merge_test_ratio(), ratio, 1e-9 * ratio);
+  EXPECT_GT(ratio, 0.0);
   EXPECT_FALSE(ekf_.slot_used(drop));
   EXPECT_TRUE(ekf_.slot_used(keep));
   EXPECT_TRUE(ekf_.slot_used(other));
@@ -86,6 +91,7 @@ TEST_F(EkfMergeTest, TwoDifferentPointsAreGatedAndNothingChanges) {
   const Eigen::VectorXd x = ekf_.state();
   const Eigen::MatrixXd P = ekf_.covariance();
   EXPECT_EQ(ekf_.merge_landmarks(a, b, 11.34), cs::ObservationResult::kGate);
+  EXPECT_GT(ekf_.last_merge_test_ratio(), 11.34);  // the ratio that was gated
   EXPECT_EQ(ekf_.counters().merges_gated, 1U);
   EXPECT_EQ(ekf_.counters().landmarks_merged, 0U);
   EXPECT_EQ(ekf_.landmark_count(), 2);
@@ -114,6 +120,7 @@ TEST_F(EkfMergeTest, UnusedOrEqualSlotsAndBadNoiseAreRefused) {
   const Eigen::VectorXd x2 = ekf_.state();
   EXPECT_EQ(ekf_.merge_landmarks(a, b, 0.0, std::nan("")), cs::ObservationResult::kInvalidSlot);
   EXPECT_EQ(ekf_.merge_landmarks(a, b, 0.0, -1.0), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf_.last_merge_test_ratio(), -1.0);
   EXPECT_TRUE(ekf_.state() == x2);
   EXPECT_EQ(ekf_.landmark_count(), 2);
 }

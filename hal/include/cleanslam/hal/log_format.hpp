@@ -71,7 +71,7 @@ struct UpdateRecord {
   double v_px = 0.0;
   double innovation_u = 0.0;
   double innovation_v = 0.0;
-  double mahalanobis2 = 0.0;
+  double mahalanobis2 = 0.0;  // kMerged, kMergeGated: the merge's test ratio (3 dof)
 };
 
 // CRC-32, reflected polynomial 0xEDB88320, initial value and final xor 0xFFFFFFFF.

@@ -80,6 +80,9 @@ class Ekf {
   // otherwise.
   ObservationResult merge_landmarks(int keep, int drop, double gate_chi2,
                                     double merge_std_m = 0.01);
+  // The last merge's test ratio (its innovation's squared Mahalanobis norm, 3 dof), gated or not;
+  // -1 when it did not get that far.
+  [[nodiscard]] double last_merge_test_ratio() const { return merge_test_ratio_; }
 
   // Per-observation gates (3-D and pixel), then one batch Joseph-form update of the survivors (eq.
   // 25-27). With a step budget (set_update_step) the update may return still pending: the status
@@ -226,6 +229,7 @@ class Ekf {
 
   UpdateStatus status_;
   EkfCounters counters_;
+  double merge_test_ratio_ = -1.0;
 };
 
 }  // namespace cleanslam::slam_core
