@@ -118,9 +118,11 @@ TEST_F(EkfMergeTest, UnusedOrEqualSlotsAndBadNoiseAreRefused) {
   const int b = ekf_.initialize_landmark(101.0, 120.0);
   ASSERT_GE(b, 0);
   const Eigen::VectorXd x2 = ekf_.state();
+  ASSERT_EQ(ekf_.merge_landmarks(a, b, 1e-12), cs::ObservationResult::kGate);  // leaves a ratio
+  ASSERT_GT(ekf_.last_merge_test_ratio(), 0.0);
   EXPECT_EQ(ekf_.merge_landmarks(a, b, 0.0, std::nan("")), cs::ObservationResult::kInvalidSlot);
-  EXPECT_EQ(ekf_.merge_landmarks(a, b, 0.0, -1.0), cs::ObservationResult::kInvalidSlot);
   EXPECT_EQ(ekf_.last_merge_test_ratio(), -1.0);
+  EXPECT_EQ(ekf_.merge_landmarks(a, b, 0.0, -1.0), cs::ObservationResult::kInvalidSlot);
   EXPECT_TRUE(ekf_.state() == x2);
   EXPECT_EQ(ekf_.landmark_count(), 2);
 }
