@@ -19,17 +19,11 @@ sys.path.insert(0, EVAL)
 import full_slam_bound  # noqa: E402
 import monte_carlo  # noqa: E402
 import numpy as np  # noqa: E402
+import replay_checks  # noqa: E402
 
-emulator, bin_dir, work = sys.argv[1], sys.argv[2], sys.argv[3]
-shutil.rmtree(work, ignore_errors=True)
-os.makedirs(work)
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print(f"FAIL: {what}", file=sys.stderr)
+emulator, bin_dir, work = replay_checks.arguments()
+check = replay_checks.Checks()
+failures = check.failures
 
 
 # The tools' own output goes to this transcript, so that the failures lead the test's output

@@ -7,7 +7,11 @@ see when an estimate diverges and whether its covariance admits it.
 DATASET holds groundtruth.csv; RUN holds trajectory.tum and trajectory.tum.cov (cleanslam-replay
 --out). Both trajectories are taken relative to their pose at the run's first time, as
 cleanslam-eval --align none does. Prints t, planar error (x, y), its std. dev., yaw error and its
-std. dev. (degrees) and the (x, y, yaw) NEES per degree of freedom; the mean NEES per dof last.
+std. dev. (degrees), the (x, y, yaw) NEES per degree of freedom and the planar path length of
+the estimate so far divided by the truth's (its scale: monocular SLAM takes the scale from the
+odometry alone, so a ratio that leaves the odometry's scale error shows a map that shrinks or
+grows; the estimate's jumps at updates count as travel). Last the mean NEES per dof and the whole
+run's path length ratio, with the dead reckoner's (RUN/dead_reckoning.tum, when there) beside it.
 """
 
 import argparse
@@ -28,6 +32,18 @@ def relative(x, y, yaw, x0, y0, yaw0):
     return c * dx - s * dy, s * dx + c * dy, yaw - yaw0
 
 
+def load(path, **kwargs):
+    try:
+        return np.loadtxt(path, ndmin=2, **kwargs)
+    except (OSError, ValueError) as e:
+        print(f"error_timeline: {path}: {e}", file=sys.stderr)
+        return None
+
+
+def path_ratio(est_m, true_m):
+    return f"{est_m / true_m:.3f}" if true_m > 0.0 else "-"
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -35,13 +51,10 @@ def main(argv=None):
     ap.add_argument("run")
     ap.add_argument("--every", type=float, default=30.0, help="print every this many seconds")
     a = ap.parse_args(argv)
-    try:
-        gt = np.loadtxt(os.path.join(a.dataset, "groundtruth.csv"), delimiter=",", comments="#",
-                        ndmin=2)
-        est = np.loadtxt(os.path.join(a.run, "trajectory.tum"), ndmin=2)
-        cov = np.loadtxt(os.path.join(a.run, "trajectory.tum.cov"), ndmin=2)
-    except (OSError, ValueError) as e:
-        print(f"error_timeline: {e}", file=sys.stderr)
+    gt = load(os.path.join(a.dataset, "groundtruth.csv"), delimiter=",", comments="#")
+    est = load(os.path.join(a.run, "trajectory.tum"))
+    cov = load(os.path.join(a.run, "trajectory.tum.cov"))
+    if gt is None or est is None or cov is None:
         return 1
     if len(cov) != len(est) or cov.shape[1] != 37:
         print(f"error_timeline: {a.run}/trajectory.tum.cov: expected t and 36 values per pose of "
@@ -58,6 +71,8 @@ def main(argv=None):
     gx, gy = np.interp(t, gt_t, gt[:, 1]), np.interp(t, gt_t, gt[:, 2])
     gw = np.interp(t, gt_t, gt_yaw)
     ew = np.unwrap([yaw_of(r[7], r[4], r[5], r[6]) for r in est])
+    est_path = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(est[:, 1]), np.diff(est[:, 2])))))
+    gt_path = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(gx), np.diff(gy)))))
     nees, last = [], -math.inf
     for i in range(len(t)):
         g = relative(gx[i], gy[i], gw[i], gx[0], gy[0], gw[0])
@@ -74,8 +89,20 @@ def main(argv=None):
             last = t[i]
             print(f"t {t[i]:7.1f} s  err x {err[0]:6.2f} y {err[1]:6.2f} m (std "
                   f"{math.sqrt(max(P[0, 0] + P[1, 1], 0.0)):5.2f})  yaw {math.degrees(err[2]):7.1f}"
-                  f" deg (std {math.degrees(math.sqrt(max(P[2, 2], 0.0))):6.1f})  NEES/dof {q:8.2f}")
+                  f" deg (std {math.degrees(math.sqrt(max(P[2, 2], 0.0))):6.1f})  NEES/dof {q:8.2f}"
+                  f"  path SLAM/true {path_ratio(est_path[i], gt_path[i])}")
     print(f"mean (x, y, yaw) NEES per dof: {np.nanmean(nees):.3g}")
+    dr_text = ""
+    dr_file = os.path.join(a.run, "dead_reckoning.tum")
+    if os.path.exists(dr_file):
+        dr = load(dr_file)
+        if dr is None:
+            return 1
+        dr = dr[(dr[:, 0] >= t[0]) & (dr[:, 0] <= t[-1])]
+        dr_m = float(np.hypot(np.diff(dr[:, 1]), np.diff(dr[:, 2])).sum()) if len(dr) > 1 else 0.0
+        dr_text = f", dead reckoning/true {path_ratio(dr_m, gt_path[-1])}"
+    print(f"path length SLAM/true: {path_ratio(est_path[-1], gt_path[-1])} "
+          f"(SLAM {est_path[-1]:.3f} m, truth {gt_path[-1]:.3f} m{dr_text})")
     return 0
 
 
