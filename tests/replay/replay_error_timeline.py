@@ -83,6 +83,11 @@ with open(os.path.join(scaled, "dead_reckoning.tum"), "w", encoding="utf-8") as 
 p = timeline(ds, scaled)
 check(p.returncode == 1 and "dead_reckoning.tum" in p.stderr,
       f"bad dead_reckoning.tum: exit {p.returncode}, {p.stderr.strip()}")
+with open(os.path.join(scaled, "dead_reckoning.tum"), "w", encoding="utf-8") as f:
+    f.write("1.0 0 0\n")
+p = timeline(ds, scaled)
+check(p.returncode == 1 and "dead_reckoning.tum: 3 columns" in p.stderr,
+      f"dead_reckoning.tum of 3 columns: exit {p.returncode}, {p.stderr.strip()}")
 
 if failures:
     print(f"{len(failures)} check(s) failed", file=sys.stderr)

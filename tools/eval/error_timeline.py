@@ -32,12 +32,16 @@ def relative(x, y, yaw, x0, y0, yaw0):
     return c * dx - s * dy, s * dx + c * dy, yaw - yaw0
 
 
-def load(path, **kwargs):
+def load(path, columns, **kwargs):
     try:
-        return np.loadtxt(path, ndmin=2, **kwargs)
+        a = np.loadtxt(path, ndmin=2, **kwargs)
     except (OSError, ValueError) as e:
         print(f"error_timeline: {path}: {e}", file=sys.stderr)
         return None
+    if a.shape[1] != columns:
+        print(f"error_timeline: {path}: {a.shape[1]} columns, expected {columns}", file=sys.stderr)
+        return None
+    return a
 
 
 def path_ratio(est_m, true_m):
@@ -51,12 +55,12 @@ def main(argv=None):
     ap.add_argument("run")
     ap.add_argument("--every", type=float, default=30.0, help="print every this many seconds")
     a = ap.parse_args(argv)
-    gt = load(os.path.join(a.dataset, "groundtruth.csv"), delimiter=",", comments="#")
-    est = load(os.path.join(a.run, "trajectory.tum"))
-    cov = load(os.path.join(a.run, "trajectory.tum.cov"))
+    gt = load(os.path.join(a.dataset, "groundtruth.csv"), 8, delimiter=",", comments="#")
+    est = load(os.path.join(a.run, "trajectory.tum"), 8)
+    cov = load(os.path.join(a.run, "trajectory.tum.cov"), 37)
     if gt is None or est is None or cov is None:
         return 1
-    if len(cov) != len(est) or cov.shape[1] != 37:
+    if len(cov) != len(est):
         print(f"error_timeline: {a.run}/trajectory.tum.cov: expected t and 36 values per pose of "
               "trajectory.tum", file=sys.stderr)
         return 1
@@ -95,7 +99,7 @@ def main(argv=None):
     dr_text = ""
     dr_file = os.path.join(a.run, "dead_reckoning.tum")
     if os.path.exists(dr_file):
-        dr = load(dr_file)
+        dr = load(dr_file, 8)
         if dr is None:
             return 1
         dr = dr[(dr[:, 0] >= t[0]) & (dr[:, 0] <= t[-1])]
