@@ -71,23 +71,22 @@ check(m is not None and m2 is not None and
       f"scaled by 0.8: {m2.group(0) if m2 else p.stdout[-300:]} against "
       f"{m.group(0) if m else '-'}")
 
-# Bad input: the file at fault is named, exit status 1.
-with open(os.path.join(scaled, "trajectory.tum.cov"), "a", encoding="utf-8") as f:
-    f.write("1 2 3\n")
-p = timeline(ds, scaled)
-check(p.returncode == 1 and "trajectory.tum.cov" in p.stderr,
-      f"ragged covariance file: exit {p.returncode}, {p.stderr.strip()}")
-shutil.copy(os.path.join(run, "trajectory.tum.cov"), os.path.join(scaled, "trajectory.tum.cov"))
-with open(os.path.join(scaled, "dead_reckoning.tum"), "w", encoding="utf-8") as f:
-    f.write("1.0 x 0 0 0 0 0 1\n")
-p = timeline(ds, scaled)
-check(p.returncode == 1 and "dead_reckoning.tum" in p.stderr,
-      f"bad dead_reckoning.tum: exit {p.returncode}, {p.stderr.strip()}")
-with open(os.path.join(scaled, "dead_reckoning.tum"), "w", encoding="utf-8") as f:
-    f.write("1.0 0 0\n")
-p = timeline(ds, scaled)
-check(p.returncode == 1 and "dead_reckoning.tum: 3 columns" in p.stderr,
-      f"dead_reckoning.tum of 3 columns: exit {p.returncode}, {p.stderr.strip()}")
+# Bad input: each file replaced in turn (the others good), exit status 1 with the file named.
+def bad_input(name, text, mode, expected):
+    bad = os.path.join(scaled, name)
+    with open(bad, mode, encoding="utf-8") as f:
+        f.write(text)
+    p = timeline(ds, scaled)
+    check(p.returncode == 1 and expected in p.stderr,
+          f"{name} with {text.strip()!r}: exit {p.returncode}, {p.stderr.strip()}")
+    os.remove(bad)
+    if os.path.exists(os.path.join(run, name)):
+        shutil.copy(os.path.join(run, name), bad)
+
+
+bad_input("trajectory.tum.cov", "1 2 3\n", "a", "trajectory.tum.cov")
+bad_input("dead_reckoning.tum", "1.0 x 0 0 0 0 0 1\n", "w", "dead_reckoning.tum")
+bad_input("dead_reckoning.tum", "1.0 0 0\n", "w", "dead_reckoning.tum: 3 columns")
 
 if failures:
     print(f"{len(failures)} check(s) failed", file=sys.stderr)
