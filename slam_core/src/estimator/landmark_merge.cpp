@@ -7,7 +7,9 @@
 namespace cleanslam::slam_core {
 
 // z = y_keep - y_drop = 0 with H = [.. I .. -I ..]: exactly linear, so the update's only error is
-// in the covariance the two estimates carry. P H^T is the difference of two column blocks.
+// in the covariance the two estimates carry. P H^T is the difference of two column blocks. With
+// the kept entry considered, its rows of the gain are zero (Schmidt), and the covariance follows
+// the general form for that gain.
 ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, double merge_std_m) {
   finish_update();
   merge_test_ratio_ = -1.0;
@@ -36,6 +38,9 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
   const Eigen::Matrix3d Sinv = llt.solve(Eigen::Matrix3d::Identity());
   auto K = W_.topLeftCorner(n, 3);
   K.noalias() = PHt.lazyProduct(Sinv);
+  if (config_.merge_considers_kept) {
+    K.middleRows<3>(a).setZero();
+  }
   for (int i = 0; i < n; ++i) {
     if (i >= hal::kPoseDim && !used_[static_cast<std::size_t>((i - hal::kPoseDim) / 3)]) {
       continue;
@@ -52,9 +57,21 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
   x_.head(n).noalias() += K * nu;
   x_(3) = wrap_angle(x_(3));
   x_(5) = wrap_angle(x_(5));
-  for (int j = 0; j < n; ++j) {
-    P_.col(j).segment(j, n - j).noalias() -= K.bottomRows(n - j) * PHt.row(j).transpose();
-    P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
+  if (config_.merge_considers_kept) {
+    // Any gain: P - K PHt^T - PHt K^T + K S K^T = P - K A^T - A K^T with A = PHt - K S / 2.
+    auto A = W_.block(0, 3, n, 3);
+    A = PHt;
+    A.noalias() -= 0.5 * K.lazyProduct(S);
+    for (int j = 0; j < n; ++j) {
+      P_.col(j).segment(j, n - j).noalias() -= K.bottomRows(n - j) * A.row(j).transpose();
+      P_.col(j).segment(j, n - j).noalias() -= A.bottomRows(n - j) * K.row(j).transpose();
+      P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
+    }
+  } else {
+    for (int j = 0; j < n; ++j) {
+      P_.col(j).segment(j, n - j).noalias() -= K.bottomRows(n - j) * PHt.row(j).transpose();
+      P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
+    }
   }
   if (config_.invariant_reset) {
     begin_invariant_reset(n, dx_.head(n));

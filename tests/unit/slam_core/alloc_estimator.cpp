@@ -195,11 +195,13 @@ TEST(EstimatorAllocation, EkfChunkedUpdatesAllocateNothing) {
   EXPECT_TRUE(ekf->state().allFinite());
 }
 
-// The firmware's default: the invariant reset after every update and merge, one-shot and chunked.
+// The firmware's defaults: the invariant reset after every update and merge, and merges that
+// consider the kept entry; one-shot and chunked.
 TEST(EstimatorAllocation, EkfWithInvariantResetAllocatesNothing) {
   hal::Calibration calibration;
   cs::EkfConfig config;
   config.invariant_reset = true;
+  config.merge_considers_kept = true;
   for (const std::int64_t step : {std::int64_t{0}, std::int64_t{20000}}) {
     auto ekf = std::make_unique<cs::Ekf>(calibration, config);
     ekf->set_update_step(step);

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -11,9 +12,27 @@ namespace hal = cleanslam::hal;
 
 namespace {
 
+// max |P - P^T|, in loops: armhf GCC's -Wnull-dereference flags the Eigen expression here.
+double asymmetry(const Eigen::MatrixXd& P) {
+  double worst = 0.0;
+  for (Eigen::Index i = 0; i < P.rows(); ++i) {
+    for (Eigen::Index j = 0; j < P.cols(); ++j) {
+      worst = std::max(worst, std::abs(P(i, j) - P(j, i)));
+    }
+  }
+  return worst;
+}
+
+cs::EkfConfig merge_config(bool considers_kept) {
+  cs::EkfConfig config;
+  config.merge_considers_kept = considers_kept;
+  return config;
+}
+
 class EkfMergeTest : public ::testing::Test {
  protected:
-  EkfMergeTest() : ekf_(calibration_, cs::EkfConfig{}) {
+  explicit EkfMergeTest(bool considers_kept = false)
+      : ekf_(calibration_, merge_config(considers_kept)) {
     cs::Matrix6d P0 = cs::Matrix6d::Identity() * 1e-3;
     P0(5, 5) = 0.04;
     P0(0, 5) = P0(5, 0) = 0.002;
@@ -22,25 +41,54 @@ class EkfMergeTest : public ::testing::Test {
     ekf_.reset(pose, P0);
   }
 
+  // Three landmarks: keep (depth known to 0.3 m), another, and drop, a second sighting of keep's
+  // point at (drop_u, drop_v) with its depth unknown; the dense H, S of their merge.
+  struct Scene {
+    int keep = -1, other = -1, drop = -1, n = 0;
+    Eigen::VectorXd x;
+    Eigen::MatrixXd P, H, R, S;
+  };
+  Scene scene(double drop_u, double drop_v, double r) {
+    Scene sc;
+    sc.keep = ekf_.initialize_landmark(140.0, 110.0, 2.0, 0.3);
+    sc.other = ekf_.initialize_landmark(250.0, 60.0);
+    sc.drop = ekf_.initialize_landmark(drop_u, drop_v);
+    sc.n = ekf_.active_dim();
+    sc.x = ekf_.state().head(sc.n);
+    sc.P = ekf_.covariance().topLeftCorner(sc.n, sc.n);
+    sc.H = Eigen::MatrixXd::Zero(3, sc.n);
+    if (sc.keep >= 0 && sc.drop >= 0) {
+      sc.H.middleCols<3>(6 + 3 * sc.keep).setIdentity();
+      sc.H.middleCols<3>(6 + 3 * sc.drop) = -Eigen::Matrix3d::Identity();
+    }
+    sc.R = r * r * Eigen::MatrixXd::Identity(3, 3);
+    sc.S = sc.H * sc.P * sc.H.transpose() + sc.R;
+    return sc;
+  }
+
   hal::Calibration calibration_;
   cs::Ekf ekf_;
 };
 
+class EkfConsideredMergeTest : public EkfMergeTest {
+ protected:
+  EkfConsideredMergeTest() : EkfMergeTest(true) {}
+};
+
 TEST_F(EkfMergeTest, EqualsTheDenseKalmanUpdateAndFreesTheDroppedSlot) {
-  const int keep = ekf_.initialize_landmark(140.0, 110.0, 2.0, 0.3);
-  const int other = ekf_.initialize_landmark(250.0, 60.0);
-  const int drop = ekf_.initialize_landmark(141.5, 109.0);  // the same point, depth unknown
+  const double r = 0.01;
+  const Scene sc = scene(141.5, 109.0, r);
+  const int keep = sc.keep;
+  const int other = sc.other;
+  const int drop = sc.drop;
   ASSERT_GE(keep, 0);
   ASSERT_GE(other, 0);
   ASSERT_GE(drop, 0);
-  const int n = ekf_.active_dim();
-  const Eigen::VectorXd x = ekf_.state().head(n);
-  const Eigen::MatrixXd P = ekf_.covariance().topLeftCorner(n, n);
-  const double r = 0.01;
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3, n);
-  H.middleCols<3>(6 + 3 * keep).setIdentity();
-  H.middleCols<3>(6 + 3 * drop) = -Eigen::Matrix3d::Identity();
-  const Eigen::MatrixXd S = H * P * H.transpose() + r * r * Eigen::MatrixXd::Identity(3, 3);
+  const int n = sc.n;
+  const Eigen::VectorXd& x = sc.x;
+  const Eigen::MatrixXd& P = sc.P;
+  const Eigen::MatrixXd& H = sc.H;
+  const Eigen::MatrixXd& S = sc.S;
   const Eigen::MatrixXd K = P * H.transpose() * S.inverse();
   const Eigen::VectorXd x_ref = x + K * (-(H * x));
   const Eigen::MatrixXd P_ref = P - K * S * K.transpose();
@@ -74,7 +122,7 @@ TEST_F(EkfMergeTest, EqualsTheDenseKalmanUpdateAndFreesTheDroppedSlot) {
           << i << "," << j;
     }
   }
-  EXPECT_EQ((P_after - P_after.transpose()).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(asymmetry(P_after), 0.0);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(P_after);
   EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-12);
   // The kept landmark now has the smaller uncertainty of the two along the dropped one's ray.
@@ -104,7 +152,7 @@ TEST_F(EkfMergeTest, TwoDifferentPointsAreGatedAndNothingChanges) {
   EXPECT_TRUE(ekf_.state().allFinite());
   const int n = ekf_.active_dim();
   const Eigen::MatrixXd P2 = ekf_.covariance().topLeftCorner(n, n);
-  EXPECT_EQ((P2 - P2.transpose()).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(asymmetry(P2), 0.0);
   EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P2).eigenvalues().minCoeff(), -1e-12);
 }
 
@@ -125,6 +173,66 @@ TEST_F(EkfMergeTest, UnusedOrEqualSlotsAndBadNoiseAreRefused) {
   EXPECT_EQ(ekf_.merge_landmarks(a, b, 0.0, -1.0), cs::ObservationResult::kInvalidSlot);
   EXPECT_TRUE(ekf_.state() == x2);
   EXPECT_EQ(ekf_.landmark_count(), 2);
+}
+
+// EkfConfig::merge_considers_kept: the kept entry's rows of the gain are zero (Schmidt). The result
+// must equal the Joseph form for that gain, which holds for any gain, leave the kept entry exactly
+// as it was, and claim no more than the optimal update.
+TEST_F(EkfConsideredMergeTest, EqualsTheDenseSchmidtUpdateAndLeavesTheKeptEntryAsItWas) {
+  const double r = 0.01;
+  const Scene sc = scene(143.0, 108.0, r);
+  ASSERT_GE(sc.keep, 0);
+  ASSERT_GE(sc.other, 0);
+  ASSERT_GE(sc.drop, 0);
+  const int keep = sc.keep;
+  const int drop = sc.drop;
+  const int n = sc.n;
+  const Eigen::VectorXd& x = sc.x;
+  const Eigen::MatrixXd& P = sc.P;
+  const Eigen::MatrixXd& H = sc.H;
+  const Eigen::MatrixXd& R = sc.R;
+  const Eigen::MatrixXd& S = sc.S;
+  const int k = 6 + 3 * keep;
+  const Eigen::MatrixXd K_opt = P * H.transpose() * S.inverse();
+  Eigen::MatrixXd K = K_opt;
+  K.middleRows<3>(k).setZero();
+  const Eigen::Vector3d nu = -(H * x);
+  const Eigen::VectorXd x_ref = x + K * nu;
+  const Eigen::MatrixXd IKH = Eigen::MatrixXd::Identity(n, n) - K * H;
+  const Eigen::MatrixXd P_ref = IKH * P * IKH.transpose() + K * R * K.transpose();
+  const Eigen::MatrixXd P_opt = P - K_opt * S * K_opt.transpose();
+
+  ASSERT_EQ(ekf_.merge_landmarks(keep, drop, 0.0, r), cs::ObservationResult::kFused);
+  EXPECT_NEAR(ekf_.last_merge_test_ratio(), nu.dot(S.inverse() * nu), 1e-9);
+  EXPECT_FALSE(ekf_.slot_used(drop));
+  EXPECT_EQ(ekf_.counters().landmarks_merged, 1U);
+  const Eigen::VectorXd x_after = ekf_.state().head(n);
+  const Eigen::MatrixXd P_after = ekf_.covariance().topLeftCorner(n, n);
+  EXPECT_TRUE(x_after.segment<3>(k) == x.segment<3>(k));
+  EXPECT_TRUE((P_after.block<3, 3>(k, k) == P.block<3, 3>(k, k)));
+  EXPECT_GT((x_after.head<6>() - x.head<6>()).norm(), 1e-3);  // the robot is what moves
+  const int d = 6 + 3 * drop;
+  for (int i = 0; i < n; ++i) {
+    if (i >= d && i < d + 3) {
+      continue;
+    }
+    EXPECT_NEAR(x_after(i), x_ref(i), 1e-9 * (1.0 + std::abs(x_ref(i)))) << "row " << i;
+    for (int j = 0; j < n; ++j) {
+      if (j < d || j >= d + 3) {
+        EXPECT_NEAR(P_after(i, j), P_ref(i, j), 1e-9 * (1.0 + std::abs(P_ref(i, j))))
+            << i << "," << j;
+      }
+    }
+  }
+  EXPECT_EQ(asymmetry(P_after), 0.0);
+  EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P_after).eigenvalues().minCoeff(),
+            -1e-12);
+  Eigen::MatrixXd excess = P_after - P_opt;
+  excess.middleRows<3>(d).setZero();
+  excess.middleCols<3>(d).setZero();
+  EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(excess).eigenvalues().minCoeff(),
+            -1e-12);
+  EXPECT_GT(excess.trace(), 1e-6);
 }
 
 }  // namespace

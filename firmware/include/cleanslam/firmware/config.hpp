@@ -54,6 +54,9 @@ struct FilterSettings {
   double remap_merge_gate_chi2 = 0.0;
   // The invariant EKF's covariance reset after each correction (slam_core::EkfConfig).
   bool invariant_reset = true;
+  // That merge corrects the robot toward the earlier entry and leaves the entry and its covariance
+  // as they were (slam_core::EkfConfig::merge_considers_kept).
+  bool remap_merge_consider_earlier = true;
 };
 
 struct FrontendSettings {

@@ -59,6 +59,12 @@ struct EkfConfig {
   // Barrau and Bonnabel (2015); without it each correction claims a little of it (the EKF-SLAM
   // inconsistency of Huang et al.), and a heading that is lost still looks known.
   bool invariant_reset = false;
+  // Merges (merge_landmarks) treat the kept entry as a considered state (Schmidt): the merge
+  // corrects the robot and the rest of the map through their correlations with the two entries,
+  // and neither moves the kept entry nor shrinks its covariance. Without it every merge pulls the
+  // earlier map toward a remapped entry built from a drifted pose, and the map's claimed accuracy
+  // compounds over the merges of a run.
+  bool merge_considers_kept = false;
   // Smallest variance allowed on the diagonal of P after an update (the PSD guard).
   double min_variance = 1e-12;
 };
