@@ -5,8 +5,11 @@ target_compile_options(cleanslam_warnings INTERFACE
   -Wcast-align -Wunused -Woverloaded-virtual -Wnull-dereference -Wdouble-promotion -Wformat=2
   $<$<BOOL:${CLEANSLAM_WERROR}>:-Werror>)
 
+# -g1 (line tables) after the build type's -g: reports keep file:line, and the Eigen-heavy objects
+# compile about 14 % faster (test_ekf.cpp: 55.6 s against 48.0 s).
 if(CLEANSLAM_SANITIZE)
-  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all)
+  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+                      -g1)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
