@@ -25,10 +25,12 @@ cs::OdometryIncrement step_increment() {
 }
 
 // An EKF with `landmarks` slots in use, spread over the image, after some motion.
-std::unique_ptr<cs::Ekf> make_filter(int landmarks, bool invariant_reset = false) {
+std::unique_ptr<cs::Ekf> make_filter(int landmarks, bool invariant_reset = false,
+                                     bool merge_considers_kept = false) {
   hal::Calibration calibration;
   cs::EkfConfig config;
   config.invariant_reset = invariant_reset;
+  config.merge_considers_kept = merge_considers_kept;
   auto ekf = std::make_unique<cs::Ekf>(calibration, config);
   ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6);
   for (int i = 0; ekf->landmark_count() < landmarks && i < 10 * hal::kMaxLandmarks; ++i) {
@@ -90,6 +92,40 @@ void BM_InitializeLandmark(benchmark::State& state) {
 }
 BENCHMARK(BM_InitializeLandmark)->Arg(25)->Arg(100)->Unit(benchmark::kMicrosecond);
 
+// A second entry of the first landmark in view, from a ray half a pixel off its prediction, with
+// its depth unknown (as remapping makes one); -1 when none is in view.
+__attribute__((noinline)) int make_duplicate(cs::Ekf& ekf, int& keep) {
+  for (keep = 0; keep < hal::kMaxLandmarks; ++keep) {
+    cs::PixelPrediction p;
+    if (ekf.predict_pixel(keep, p) && ekf.camera().in_image(p.uv.x(), p.uv.y())) {
+      return ekf.initialize_landmark(p.uv.x() + 0.5, p.uv.y() - 0.5);
+    }
+  }
+  return -1;
+}
+
+// Merges such a duplicate back (only the merge is timed; the map keeps its size). range(1): the
+// kept entry considered (EkfConfig::merge_considers_kept). A fixed number of iterations: some ten
+// thousand plain merges into one landmark from one pose shrink it until no duplicate can be made.
+void BM_MergeDuplicate(benchmark::State& state) {
+  auto ekf = make_filter(static_cast<int>(state.range(0)), false, state.range(1) != 0);
+  int merged = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    int keep = -1;
+    const int drop = make_duplicate(*ekf, keep);
+    state.ResumeTiming();
+    merged += ekf->merge_landmarks(keep, drop, 0.0) == cs::ObservationResult::kFused ? 1 : 0;
+  }
+  state.counters["state_dim"] = ekf->active_dim();
+  state.counters["merged"] = merged;
+}
+BENCHMARK(BM_MergeDuplicate)
+    ->ArgsProduct({{25, 100}, {0, 1}})
+    ->ArgNames({"landmarks", "considers_kept"})
+    ->Iterations(2000)
+    ->Unit(benchmark::kMicrosecond);
+
 // For instruction counts under callgrind (tools/bench/estimator.sh): each op runs `calls` times
 // inside a function of its own, which callgrind collects with --toggle-collect.
 std::array<cs::Observation, 10> ten_observations(const cs::Ekf& ekf, int& m) {
@@ -124,8 +160,13 @@ __attribute__((noinline)) void counted_initialize(cs::Ekf& ekf, int calls) {
   }
 }
 
+__attribute__((noinline)) void counted_merge(cs::Ekf& ekf, int keep, int drop) {
+  ekf.merge_landmarks(keep, drop, 0.0);
+}
+
 int count_instructions(const char* op, int landmarks, int calls) {
-  auto ekf = make_filter(landmarks, std::strcmp(op, "update_invariant") == 0);
+  auto ekf = make_filter(landmarks, std::strcmp(op, "update_invariant") == 0,
+                         std::strcmp(op, "merge_considered") == 0);
   if (std::strcmp(op, "predict") == 0) {
     counted_predict(*ekf, calls);
   } else if (std::strcmp(op, "update") == 0 || std::strcmp(op, "update_invariant") == 0) {
@@ -134,10 +175,17 @@ int count_instructions(const char* op, int landmarks, int calls) {
     counted_update(*ekf, obs.data(), m, calls);
   } else if (std::strcmp(op, "initialize") == 0) {
     counted_initialize(*ekf, calls);
+  } else if (std::strcmp(op, "merge") == 0 || std::strcmp(op, "merge_considered") == 0) {
+    for (int i = 0; i < calls; ++i) {
+      int keep = -1;
+      const int drop = make_duplicate(*ekf, keep);
+      counted_merge(*ekf, keep, drop);
+    }
   } else {
-    std::fprintf(
-        stderr,
-        "bench_estimator: unknown op '%s' (predict, update, update_invariant, initialize)\n", op);
+    std::fprintf(stderr,
+                 "bench_estimator: unknown op '%s' (predict, update, update_invariant, initialize, "
+                 "merge, merge_considered)\n",
+                 op);
     return 2;
   }
   return 0;
@@ -146,7 +194,8 @@ int count_instructions(const char* op, int landmarks, int calls) {
 }  // namespace
 
 // bench_estimator [google benchmark flags]
-// bench_estimator --count OP LANDMARKS CALLS   (OP: predict, update, update_invariant, initialize)
+// bench_estimator --count OP LANDMARKS CALLS
+//   (OP: predict, update, update_invariant, initialize, merge, merge_considered)
 int main(int argc, char** argv) {
   if (argc == 5 && std::strcmp(argv[1], "--count") == 0) {
     return count_instructions(argv[2], std::atoi(argv[3]), std::atoi(argv[4]));

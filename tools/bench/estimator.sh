@@ -42,3 +42,7 @@ for n in 100 128; do
 done
 count initialize 25 '*counted_initialize*'
 count initialize 100 '*counted_initialize*'
+for op in merge merge_considered; do
+  count "$op" 25 '*counted_merge*'
+  count "$op" 100 '*counted_merge*'
+done
