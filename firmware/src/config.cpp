@@ -1,7 +1,6 @@
 #include "cleanslam/firmware/config.hpp"
 
 #include <cmath>
-#include <limits>
 #include <sstream>
 
 #include "cleanslam/hal/capacities.hpp"
@@ -13,8 +12,6 @@ namespace cleanslam::firmware {
 namespace yaml = sim_hal::yaml;
 
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Typed reading with ranges: errors name the file, line and dotted key.
 class Section {
