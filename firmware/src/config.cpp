@@ -144,9 +144,9 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.remap_max_mapped_in_view = f.integer("remap_max_mapped_in_view", x.remap_max_mapped_in_view,
                                            0, hal::kMaxFeaturesPerFrame);
     x.remap_merge_gate_chi2 = f.number("remap_merge_gate_chi2", x.remap_merge_gate_chi2, 0.0, 1e6);
-    x.invariant_reset = f.flag("invariant_reset", x.invariant_reset);
     x.remap_merge_consider_earlier =
         f.flag("remap_merge_consider_earlier", x.remap_merge_consider_earlier);
+    x.invariant_reset = f.flag("invariant_reset", x.invariant_reset);
     f.done();
   }
   {
@@ -393,9 +393,9 @@ std::string config_text(const FirmwareConfig& c) {
     << "  remap_min_yaw_std_deg: " << fmt(f.remap_min_yaw_std_deg) << "\n"
     << "  remap_max_mapped_in_view: " << f.remap_max_mapped_in_view << "\n"
     << "  remap_merge_gate_chi2: " << fmt(f.remap_merge_gate_chi2) << "\n"
-    << "  invariant_reset: " << (f.invariant_reset ? "true" : "false") << "\n"
     << "  remap_merge_consider_earlier: " << (f.remap_merge_consider_earlier ? "true" : "false")
-    << "\n";
+    << "\n"
+    << "  invariant_reset: " << (f.invariant_reset ? "true" : "false") << "\n";
   s << "frontend:\n"
     << "  min_inliers: " << c.frontend.min_inliers << "\n"
     << "  features_min_inliers: " << c.frontend.features_min_inliers << "\n"

@@ -52,11 +52,11 @@ struct FilterSettings {
   int remap_max_mapped_in_view = 2;
   // The merge's chi-square gate (3 dof); 0: none (track ids make the two entries the same point).
   double remap_merge_gate_chi2 = 0.0;
-  // The invariant EKF's covariance reset after each correction (slam_core::EkfConfig).
-  bool invariant_reset = true;
-  // That merge corrects the robot toward the earlier entry and leaves the entry and its covariance
+  // The merge corrects the robot toward the earlier entry and leaves the entry and its covariance
   // as they were (slam_core::EkfConfig::merge_considers_kept).
   bool remap_merge_consider_earlier = true;
+  // The invariant EKF's covariance reset after each correction (slam_core::EkfConfig).
+  bool invariant_reset = true;
 };
 
 struct FrontendSettings {
