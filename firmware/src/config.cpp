@@ -93,6 +93,7 @@ void read_calibration(Section c, hal::Calibration& cal) {
         w.number("ticks_per_meter_right", wh.ticks_per_meter_right, 0, 1e7, true);
     wh.wheel_base = w.number("wheel_base", wh.wheel_base, 0.0, 10.0, true);
     wh.distance_noise = w.number("distance_noise", wh.distance_noise, 0.0, 1.0);
+    wh.scale_error = w.number("scale_error", wh.scale_error, 0.0, 1.0);
     w.done();
   }
   {
@@ -134,6 +135,7 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.gyro_scale_error = f.number("gyro_scale_error", x.gyro_scale_error, 0.0, 1.0);
     x.gyro_bias_state = f.flag("gyro_bias_state", x.gyro_bias_state);
     x.gyro_bias_walk = f.number("gyro_bias_walk", x.gyro_bias_walk, 0.0, 1.0);
+    x.distance_scale_state = f.flag("distance_scale_state", x.distance_scale_state);
     x.gyro_errors_from_calibration =
         f.flag("gyro_errors_from_calibration", x.gyro_errors_from_calibration);
     x.hold_heading_when_still = f.flag("hold_heading_when_still", x.hold_heading_when_still);
@@ -385,6 +387,7 @@ std::string config_text(const FirmwareConfig& c) {
     << "  gyro_scale_error: " << fmt(f.gyro_scale_error) << "\n"
     << "  gyro_bias_state: " << (f.gyro_bias_state ? "true" : "false") << "\n"
     << "  gyro_bias_walk: " << fmt(f.gyro_bias_walk) << "\n"
+    << "  distance_scale_state: " << (f.distance_scale_state ? "true" : "false") << "\n"
     << "  gyro_errors_from_calibration: " << (f.gyro_errors_from_calibration ? "true" : "false")
     << "\n"
     << "  hold_heading_when_still: " << (f.hold_heading_when_still ? "true" : "false") << "\n"

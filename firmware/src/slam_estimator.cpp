@@ -33,6 +33,7 @@ slam_core::EkfConfig ekf_config(const FirmwareConfig& c) {
   e.max_depth_m = c.filter.max_depth_m;
   e.gyro_bias_state = c.filter.gyro_bias_state;
   e.gyro_bias_walk = c.filter.gyro_bias_walk;
+  e.distance_scale_state = c.filter.distance_scale_state;
   if (c.filter.gyro_errors_from_calibration) {
     e.gyro_bias_walk = std::max(e.gyro_bias_walk, c.calibration.gyro.bias_walk);
   }
@@ -52,6 +53,7 @@ slam_core::DeadReckoningConfig dead_reckoning_config(const FirmwareConfig& c) {
     d.gyro_scale_error = std::max(d.gyro_scale_error, c.calibration.gyro.scale_error);
   }
   d.bias_in_state = c.filter.gyro_bias_state;
+  d.scale_in_state = c.filter.distance_scale_state;
   d.hold_heading_when_still = c.filter.hold_heading_when_still;
   return d;
 }

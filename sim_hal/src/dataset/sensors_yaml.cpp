@@ -105,11 +105,19 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
     c.wheels.ticks_per_meter_right = w.required_double("ticks_per_meter_right");
     c.wheels.wheel_base = w.required_double("wheel_base");
     c.wheels.distance_noise = w.optional_double("distance_noise", c.wheels.distance_noise);
+    c.wheels.scale_error = w.optional_double("scale_error", c.wheels.scale_error);
     for (const char* key : {"ticks_per_meter_left", "ticks_per_meter_right", "wheel_base"}) {
       const yaml::Node* n = w.node(key);
       auto v = n != nullptr ? yaml::as_double(*n, w.path(key)) : Result<double>(1.0);
       if (v.ok() && *v <= 0.0) {
         diag.errors.push_back(n->location.str() + ": " + w.path(key) + ": must be positive");
+      }
+    }
+    if (const yaml::Node* n = w.node("scale_error")) {
+      auto v = yaml::as_double(*n, w.path("scale_error"));
+      if (v.ok() && !(*v >= 0.0 && *v <= 1.0)) {
+        diag.errors.push_back(n->location.str() + ": " + w.path("scale_error") +
+                              ": must be within [0, 1]");
       }
     }
     w.report_unknown_keys();
@@ -181,6 +189,9 @@ std::string sensors_yaml_text(const hal::Calibration& c) {
   s += "  ticks_per_meter_right: " + format_double(c.wheels.ticks_per_meter_right) + "\n";
   s += "  wheel_base: " + format_double(c.wheels.wheel_base) + "\n";
   s += "  distance_noise: " + format_double(c.wheels.distance_noise) + "\n";
+  if (c.wheels.scale_error > 0.0) {
+    s += "  scale_error: " + format_double(c.wheels.scale_error) + "\n";
+  }
   s += "gyro:\n";
   s += "  noise_density: " + format_double(c.gyro.noise_density) + "\n";
   s += "  bias_instability: " + format_double(c.gyro.bias_instability) + "\n";

@@ -66,6 +66,8 @@ hal::Calibration calibration_of(const Scenario& sc) {
   cal.wheels.distance_noise = std::max(0.01, std::max(std::abs(sc.encoders.scale_error_left),
                                                       std::abs(sc.encoders.scale_error_right)) +
                                                  sc.encoders.distance_noise);
+  cal.wheels.scale_error =
+      std::max(std::abs(sc.encoders.scale_error_left), std::abs(sc.encoders.scale_error_right));
   cal.gyro.noise_density = std::max(sc.gyro.noise_density, 1e-6);
   // The filter reads bias_instability as the std. dev. of the bias it cannot estimate: the sim's
   // turn-on bias is never estimated (the robot starts moving), so it must be covered.

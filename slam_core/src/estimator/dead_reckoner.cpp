@@ -148,9 +148,9 @@ void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt,
   }
   const Eigen::Vector3d g_dist(c, s, 0.0);
   const double k = calibration_.wheels.distance_noise;
+  const double scale_length_m = config_.scale_in_state ? 0.0 : config_.distance_scale_correlation_m;
   in.cov = F * in.cov * F.transpose() + yaw_var * g_yaw * g_yaw.transpose() +
-           k * k * config_.distance_scale_correlation_m * std::abs(distance) * g_dist *
-               g_dist.transpose();
+           k * k * scale_length_m * std::abs(distance) * g_dist * g_dist.transpose();
   in.d_scale = F * in.d_scale + distance * Eigen::Vector3d(c, s, 0.0);
   in.d_bias = F * in.d_bias;
   in.d_gyro_scale = F * in.d_gyro_scale;
@@ -347,6 +347,9 @@ OdometryIncrement DeadReckoner::camera_increment(const Increment& in, double dt_
   Vector6d d_bias_body;
   d_bias_body << in.d_bias.x(), in.d_bias.y(), 0.0, 0.0, 0.0, in.d_bias.z();
   out.du_dbias = J * d_bias_body;
+  Vector6d d_scale_body;
+  d_scale_body << in.d_scale.x(), in.d_scale.y(), 0.0, 0.0, 0.0, in.d_scale.z();
+  out.du_dscale = J * d_scale_body;
   out.distance_m = in.distance;
   out.dt_s = dt_s;
   out.gyro_used = in.gyro_used;

@@ -50,8 +50,11 @@ Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
     : config_(config),
       camera_(calibration.camera),
       max_slots_(std::clamp(config.max_landmarks, 0, hal::kMaxLandmarks)),
-      first_slot_(config.gyro_bias_state ? 1 : 0),
-      bias_std0_(calibration.gyro.bias_instability) {
+      first_slot_(config.gyro_bias_state || config.distance_scale_state ? 1 : 0),
+      bias_std0_(config.gyro_bias_state ? calibration.gyro.bias_instability : 0.0),
+      scale_std0_(!config.distance_scale_state     ? 0.0
+                  : calibration.wheels.scale_error > 0.0 ? calibration.wheels.scale_error
+                                                         : calibration.wheels.distance_noise) {
   x_.setZero(kMaxStateDim);
   P_.setZero(kMaxStateDim, kMaxStateDim);
   nu_.setZero(kMaxMeasDim);
@@ -79,6 +82,7 @@ void Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
   active_dim_ = row_of(first_slot_);
   if (first_slot_ > 0) {
     P_(kBiasRow, kBiasRow) = bias_std0_ * bias_std0_;
+    P_(kScaleRow, kScaleRow) = scale_std0_ * scale_std0_;
   }
   update_counter_ = 0;
   last_motion_w_.setZero();
@@ -188,12 +192,15 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
     return status;
   }
   const Vector6d pose = x_.head<6>();
-  const bool bias = first_slot_ > 0;
-  // With the gyro bias state b, the increment is u + du/db b and d pose / d b = G du/db.
+  const bool odometry_states = first_slot_ > 0;
+  // With the odometry error states e = (gyro bias b, distance scale s), the increment is
+  // u + du/de e and d pose / d e = G du/de.
+  Eigen::Matrix<double, 6, 2> du_de;
+  du_de << u.du_dbias, u.du_dscale;
   Vector6d ub;
   ub << u.dx_c, u.dpsi_c;
-  if (bias) {
-    ub += u.du_dbias * x_(kBiasRow);
+  if (odometry_states) {
+    ub += du_de * x_.segment<2>(kBiasRow);
   }
   Matrix6d F;
   Matrix6d G;
@@ -205,24 +212,25 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
 
   const Matrix6d Pxx = P_.topLeftCorner<6, 6>();
   Matrix6d Pn = F * Pxx * F.transpose() + G * Q * G.transpose();  // eq. 7
-  const Vector6d Fb = bias ? (G * u.du_dbias).eval() : Vector6d::Zero();
-  if (bias) {
-    const Vector6d FPxb = F * P_.block<6, 1>(0, kBiasRow);
-    Pn += FPxb * Fb.transpose() + Fb * FPxb.transpose() +
-          P_(kBiasRow, kBiasRow) * Fb * Fb.transpose();
+  Eigen::Matrix<double, 6, 2> Fe = Eigen::Matrix<double, 6, 2>::Zero();
+  if (odometry_states) {
+    Fe = G * du_de;
+    const Eigen::Matrix<double, 6, 2> FPxe = F * P_.block<6, 2>(0, kBiasRow);
+    Pn += FPxe * Fe.transpose() + Fe * FPxe.transpose() +
+          Fe * P_.block<2, 2>(kBiasRow, kBiasRow) * Fe.transpose();
   }
   const int nl = active_dim_ - kPose;
   if (nl > 0) {  // eq. 8
     cross_.resize(6, nl);
     cross_.noalias() = F.lazyProduct(P_.block(0, kPose, 6, nl));
-    if (bias) {
-      cross_.noalias() += Fb.lazyProduct(P_.block(kBiasRow, kPose, 1, nl));
+    if (odometry_states) {
+      cross_.noalias() += Fe.lazyProduct(P_.block(kBiasRow, kPose, 2, nl));
     }
     P_.block(0, kPose, 6, nl) = cross_;
     P_.block(kPose, 0, nl, 6) = cross_.transpose();
   }
   P_.topLeftCorner<6, 6>() = 0.5 * (Pn + Pn.transpose());
-  if (bias) {
+  if (odometry_states && config_.gyro_bias_state) {
     P_(kBiasRow, kBiasRow) += config_.gyro_bias_walk * config_.gyro_bias_walk * std::abs(u.dt_s);
   }
   return status;

@@ -46,5 +46,27 @@ TEST(SensorsYamlGyroErrors, ANegativeValueIsAnErrorNamingLineAndKey) {
   EXPECT_DOUBLE_EQ(good->gyro.bias_walk, 0.001);
 }
 
+TEST(SensorsYamlWheelScale, SimulatorStatesTheLargerWheelScaleErrorAndItRoundTrips) {
+  sim::Scenario sc;
+  sc.encoders.scale_error_left = 0.08;
+  sc.encoders.scale_error_right = -0.12;
+  const hal::Calibration cal = sim::calibration_of(sc);
+  EXPECT_DOUBLE_EQ(cal.wheels.scale_error, 0.12);
+  const auto back = parse_sensors_yaml(sensors_yaml_text(cal), "sensors.yaml", nullptr);
+  ASSERT_TRUE(back.ok()) << back.error();
+  EXPECT_DOUBLE_EQ(back->wheels.scale_error, 0.12);
+}
+
+TEST(SensorsYamlWheelScale, AValueOutsideZeroToOneIsAnErrorNamingLineAndKey) {
+  std::string text = sensors_yaml_text(hal::Calibration{});
+  const std::string key = "  distance_noise:";
+  const auto at = text.find('\n', text.find(key)) + 1;
+  const auto bad = parse_sensors_yaml(text.substr(0, at) + "  scale_error: 1.5\n" + text.substr(at),
+                                      "s.yaml", nullptr);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().find("wheels.scale_error"), std::string::npos) << bad.error();
+  EXPECT_NE(bad.error().find("s.yaml:"), std::string::npos) << bad.error();
+}
+
 }  // namespace
 }  // namespace cleanslam::sim_hal

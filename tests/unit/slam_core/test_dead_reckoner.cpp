@@ -368,6 +368,39 @@ TEST(DeadReckoner, DuDbiasIsTheNumericalDerivativeOfTheIncrementByAGyroOffset) {
   EXPECT_GT(u.du_dbias.norm(), 1.0);
 }
 
+TEST(DeadReckoner, DuDscaleIsTheNumericalDerivativeOfTheIncrementByAWheelScale) {
+  const hal::Calibration cal;
+  const cs::DeadReckoningConfig c;
+  // Wheels that count (1 + s) times the calibrated ticks per metre make the reckoner measure a
+  // distance 1 + s times too short: the true increment is u(s) + du_dscale s.
+  const auto run = [&](double s) {
+    hal::Calibration believed = cal;
+    believed.wheels.ticks_per_meter_left *= 1.0 + s;
+    believed.wheels.ticks_per_meter_right *= 1.0 + s;
+    cs::DeadReckoner dr(believed, c);
+    Drive drive(dr, cal);
+    drive.v = [](double t) { return 0.2 + 0.05 * std::cos(t); };
+    drive.w = [](double t) { return 0.3 + 0.2 * std::sin(t); };
+    drive.run_until(0);
+    dr.take_increment(0);
+    drive.run_until(2030 * kMs);
+    return dr.take_increment(2030 * kMs);
+  };
+  const cs::OdometryIncrement u = run(0.0);
+  const auto f = [&](const Eigen::Matrix<double, 1, 1>& s) {
+    const cs::OdometryIncrement us = run(s(0));
+    cs::Vector6d out;
+    out << us.dx_c, us.dpsi_c;
+    return out;
+  };
+  const cs::Vector6d numeric =
+      -cleanslam::test::numeric_jacobian<6, 1>(f, Eigen::Matrix<double, 1, 1>::Zero(), 1e-4);
+  EXPECT_LT((u.du_dscale - numeric).cwiseAbs().maxCoeff(), 2e-5) << u.du_dscale.transpose()
+                                                                  << "\n"
+                                                                  << numeric.transpose();
+  EXPECT_GT(u.du_dscale.head<3>().norm(), 0.3);
+}
+
 TEST(DeadReckoner, HoldsTheHeadingWhileTheWheelsStandStill) {
   const hal::Calibration cal;
   cs::DeadReckoningConfig held;

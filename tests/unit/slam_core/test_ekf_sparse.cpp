@@ -84,6 +84,74 @@ TEST(EkfGyroBias, PredictionPropagatesPoseAndBiasWithTheNumericalJacobian) {
   }
 }
 
+TEST(EkfDistanceScale, PredictionPropagatesPoseBiasAndScaleWithTheNumericalJacobian) {
+  constexpr double kScaleStd = 0.12;
+  hal::Calibration calibration;
+  calibration.gyro.bias_instability = kBiasStd;
+  calibration.wheels.scale_error = kScaleStd;
+  cs::EkfConfig config = bias_config();
+  config.distance_scale_state = true;
+  cs::Ekf ekf(calibration, config);
+  cs::Vector6d pose0;
+  pose0 << 0.3, -0.2, 0.1, 0.01, -0.02, 0.4;
+  ekf.reset(pose0, cs::Matrix6d::Identity() * 1e-4);
+  using Vector8d = Eigen::Matrix<double, 8, 1>;
+  using Matrix8d = Eigen::Matrix<double, 8, 8>;
+  Matrix8d P = Matrix8d::Zero();
+  P.topLeftCorner<6, 6>() = cs::Matrix6d::Identity() * 1e-4;
+  P(6, 6) = kBiasStd * kBiasStd;
+  P(7, 7) = kScaleStd * kScaleStd;
+  EXPECT_NEAR(ekf.distance_scale_variance(), P(7, 7), 1e-15);
+  for (cs::OdometryIncrement u : {increment(0.1, 0.3, 0.5), increment(0.05, -0.2, 0.7)}) {
+    u.du_dscale << u.dx_c, 0.0, 0.0, 0.0;
+    Vector8d s;
+    s << ekf.camera_pose(), ekf.gyro_bias(), ekf.distance_scale();
+    const auto f = [&u](const Vector8d& a) {
+      Vector8d out;
+      out << cs::predict_pose(a.head<6>(),
+                              u.dx_c + u.du_dbias.head<3>() * a(6) + u.du_dscale.head<3>() * a(7),
+                              u.dpsi_c + u.du_dbias.tail<3>() * a(6) + u.du_dscale.tail<3>() * a(7)),
+          a(6), a(7);
+      return out;
+    };
+    const Matrix8d Phi = cleanslam::test::numeric_jacobian<8, 8>(f, s);
+    cs::Matrix6d F;
+    cs::Matrix6d G;
+    cs::prediction_jacobians(s.head<6>(), u.dx_c, u.dpsi_c, F, G);
+    Matrix8d Q = Matrix8d::Zero();
+    Q.topLeftCorner<6, 6>() = G * u.Q * G.transpose();
+    Q(6, 6) = kBiasWalk * kBiasWalk * u.dt_s;
+    P = Phi * P * Phi.transpose() + Q;
+    ASSERT_TRUE(ekf.predict(u).applied());
+    EXPECT_TRUE(ekf.camera_pose().isApprox(f(s).head<6>(), 1e-12));
+    EXPECT_LT((ekf.pose_covariance() - P.topLeftCorner<6, 6>()).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_NEAR(ekf.gyro_bias_variance(), P(6, 6), 1e-15);
+    EXPECT_NEAR(ekf.distance_scale_variance(), P(7, 7), 1e-15);
+  }
+  // The scale's prior reaches the pose: along-track variance beyond the increments' own.
+  auto plain = make_ekf(bias_config());
+  ASSERT_TRUE(plain->predict(increment(0.1, 0.3, 0.5)).applied());
+  ASSERT_TRUE(plain->predict(increment(0.05, -0.2, 0.7)).applied());
+  EXPECT_GT(ekf.pose_covariance().trace(), plain->pose_covariance().trace() + 1e-5);
+}
+
+TEST(EkfDistanceScale, AloneItTakesSlotZeroAndLeavesTheBiasAtZero) {
+  hal::Calibration calibration;
+  calibration.wheels.distance_noise = 0.2;  // the prior when scale_error is not stated
+  cs::EkfConfig config;
+  config.distance_scale_state = true;
+  cs::Ekf ekf(calibration, config);
+  ekf.reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-4);
+  EXPECT_NEAR(ekf.distance_scale_variance(), 0.04, 1e-15);
+  EXPECT_EQ(ekf.gyro_bias_variance(), 0.0);
+  EXPECT_EQ(ekf.initialize_landmark(100.0, 80.0), 1);
+  cs::OdometryIncrement u = increment(0.1, 0.3, 0.5);
+  u.du_dscale << u.dx_c, 0.0, 0.0, 0.0;
+  ASSERT_TRUE(ekf.predict(u).applied());
+  EXPECT_EQ(ekf.gyro_bias(), 0.0);
+  EXPECT_EQ(ekf.gyro_bias_variance(), 0.0);
+}
+
 TEST(EkfGyroBias, WithoutTheStateDuDbiasIsIgnoredAndSlotZeroIsFree) {
   auto plain = make_ekf(cs::EkfConfig{});
   auto biased = make_ekf(bias_config());

@@ -27,6 +27,7 @@ struct WheelCalibration {
   double ticks_per_meter_right = 4000.0;
   double wheel_base = 0.235;
   double distance_noise = 0.02;
+  double scale_error = 0.0;  // std. dev. of the distance scale factor error, 0: not stated
 };
 
 struct GyroCalibration {

@@ -52,6 +52,9 @@ struct DeadReckoningConfig {
   // The filter estimates the gyro bias (EkfConfig::gyro_bias_state): Q leaves out both bias terms
   // (within one increment and gyro_bias_correlation_time_s).
   bool bias_in_state = false;
+  // The filter estimates the distance scale (EkfConfig::distance_scale_state): Q leaves out the
+  // distance_scale_correlation_m term.
+  bool scale_in_state = false;
   // A differential drive whose wheels did not turn for standstill_window_s does not rotate: the
   // gyro is not integrated then (heading and its variance held), whatever its noise. The gyro
   // test of standing_still() cannot see that through a noisy gyro.

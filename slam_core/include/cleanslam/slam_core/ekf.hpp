@@ -121,6 +121,11 @@ class Ekf {
   [[nodiscard]] double gyro_bias_variance() const {
     return first_slot_ > 0 ? P_(kBiasRow, kBiasRow) : 0.0;
   }
+  // The distance scale state and its variance; 0 without EkfConfig::distance_scale_state.
+  [[nodiscard]] double distance_scale() const { return first_slot_ > 0 ? x_(kScaleRow) : 0.0; }
+  [[nodiscard]] double distance_scale_variance() const {
+    return first_slot_ > 0 ? P_(kScaleRow, kScaleRow) : 0.0;
+  }
   [[nodiscard]] Matrix6d pose_covariance() const { return P_.topLeftCorner<6, 6>(); }
   [[nodiscard]] bool slot_used(int slot) const;
   // Std. dev. of the landmark's depth relative to the camera, along the camera-landmark line,
@@ -152,8 +157,10 @@ class Ekf {
     std::uint32_t fused = 0;
   };
   static int row_of(int slot) { return hal::kPoseDim + hal::kLandmarkDim * slot; }
-  // With EkfConfig::gyro_bias_state, slot 0 is reserved: its first row holds the bias.
+  // With EkfConfig::gyro_bias_state or distance_scale_state, slot 0 is reserved for the odometry
+  // error states: its first row holds the gyro bias, its second the distance scale.
   static constexpr int kBiasRow = hal::kPoseDim;
+  static constexpr int kScaleRow = hal::kPoseDim + 1;
   [[nodiscard]] bool valid_used_slot(int slot) const;
   // Unit vector from the camera to the landmark and its length; false for an unused slot.
   bool ray_to(int slot, Eigen::Vector3d& u, double& depth) const;
@@ -186,6 +193,7 @@ class Ekf {
   int max_slots_;
   int first_slot_;
   double bias_std0_;
+  double scale_std0_;
 
   StateVector x_;
   StateMatrix P_;

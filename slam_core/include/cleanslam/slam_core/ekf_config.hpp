@@ -52,6 +52,11 @@ struct EkfConfig {
   // OdometryIncrement::du_dbias. It takes landmark slot 0 (one landmark fewer).
   bool gyro_bias_state = false;
   double gyro_bias_walk = 0.0;
+  // A state for the wheels' distance scale error s (the travelled distance is the measured one
+  // times 1 + s), constant: initial std. dev. wheels.scale_error of the calibration (its
+  // distance_noise when not stated); it enters the prediction through
+  // OdometryIncrement::du_dscale. It shares slot 0 with the gyro bias state (its second row).
+  bool distance_scale_state = false;
   // Invariant-EKF reset after every state correction (update or merge): the covariance is carried
   // from the estimate the correction was linearized at to the corrected one, with the Jacobian of
   // a rotation about the vertical applied to every position (robot and landmarks). The global

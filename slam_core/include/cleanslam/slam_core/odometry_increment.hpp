@@ -13,6 +13,9 @@ struct OdometryIncrement {
   // d (dx_c, dpsi_c) / d b: how the increment changes with a residual gyro bias b (rad/s) that
   // the dead reckoner did not subtract.
   Eigen::Matrix<double, 6, 1> du_dbias = Eigen::Matrix<double, 6, 1>::Zero();
+  // d (dx_c, dpsi_c) / d s: how it changes with a distance scale error s of the wheels (the
+  // travelled distance is the measured one times 1 + s).
+  Eigen::Matrix<double, 6, 1> du_dscale = Eigen::Matrix<double, 6, 1>::Zero();
   double distance_m = 0.0;  // travelled by the body (unsigned)
   double dt_s = 0.0;
   bool gyro_used = true;  // false when the heading came from the encoders alone
