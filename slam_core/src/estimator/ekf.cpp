@@ -52,7 +52,7 @@ Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
       max_slots_(std::clamp(config.max_landmarks, 0, hal::kMaxLandmarks)),
       first_slot_(config.gyro_bias_state || config.distance_scale_state ? 1 : 0),
       bias_std0_(config.gyro_bias_state ? calibration.gyro.bias_instability : 0.0),
-      scale_std0_(!config.distance_scale_state     ? 0.0
+      scale_std0_(!config.distance_scale_state           ? 0.0
                   : calibration.wheels.scale_error > 0.0 ? calibration.wheels.scale_error
                                                          : calibration.wheels.distance_noise) {
   x_.setZero(kMaxStateDim);

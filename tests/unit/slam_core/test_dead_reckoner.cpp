@@ -395,9 +395,8 @@ TEST(DeadReckoner, DuDscaleIsTheNumericalDerivativeOfTheIncrementByAWheelScale) 
   };
   const cs::Vector6d numeric =
       -cleanslam::test::numeric_jacobian<6, 1>(f, Eigen::Matrix<double, 1, 1>::Zero(), 1e-4);
-  EXPECT_LT((u.du_dscale - numeric).cwiseAbs().maxCoeff(), 2e-5) << u.du_dscale.transpose()
-                                                                  << "\n"
-                                                                  << numeric.transpose();
+  EXPECT_LT((u.du_dscale - numeric).cwiseAbs().maxCoeff(), 2e-5) << u.du_dscale.transpose() << "\n"
+                                                                 << numeric.transpose();
   EXPECT_GT(u.du_dscale.head<3>().norm(), 0.3);
 }
 

@@ -108,9 +108,9 @@ TEST(EkfDistanceScale, PredictionPropagatesPoseBiasAndScaleWithTheNumericalJacob
     s << ekf.camera_pose(), ekf.gyro_bias(), ekf.distance_scale();
     const auto f = [&u](const Vector8d& a) {
       Vector8d out;
-      out << cs::predict_pose(a.head<6>(),
-                              u.dx_c + u.du_dbias.head<3>() * a(6) + u.du_dscale.head<3>() * a(7),
-                              u.dpsi_c + u.du_dbias.tail<3>() * a(6) + u.du_dscale.tail<3>() * a(7)),
+      out << cs::predict_pose(
+          a.head<6>(), u.dx_c + u.du_dbias.head<3>() * a(6) + u.du_dscale.head<3>() * a(7),
+          u.dpsi_c + u.du_dbias.tail<3>() * a(6) + u.du_dscale.tail<3>() * a(7)),
           a(6), a(7);
       return out;
     };

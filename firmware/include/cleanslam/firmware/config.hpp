@@ -35,7 +35,8 @@ struct FilterSettings {
   // Residual gyro bias as a filter state (slam_core::EkfConfig::gyro_bias_state).
   bool gyro_bias_state = false;
   double gyro_bias_walk = 0.0;  // rad/s/sqrt(s)
-  // The wheels' distance scale error as a filter state (slam_core::EkfConfig::distance_scale_state).
+  // The wheels' distance scale error as a filter state
+  // (slam_core::EkfConfig::distance_scale_state).
   bool distance_scale_state = false;
   // gyro_scale_error and gyro_bias_walk at least the calibration's gyro.scale_error, bias_walk.
   bool gyro_errors_from_calibration = false;
