@@ -148,6 +148,7 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.remap_merge_gate_chi2 = f.number("remap_merge_gate_chi2", x.remap_merge_gate_chi2, 0.0, 1e6);
     x.remap_merge_consider_earlier =
         f.flag("remap_merge_consider_earlier", x.remap_merge_consider_earlier);
+    x.second_order_yaw = f.flag("second_order_yaw", x.second_order_yaw);
     x.invariant_reset = f.flag("invariant_reset", x.invariant_reset);
     f.done();
   }
@@ -398,6 +399,7 @@ std::string config_text(const FirmwareConfig& c) {
     << "  remap_merge_gate_chi2: " << fmt(f.remap_merge_gate_chi2) << "\n"
     << "  remap_merge_consider_earlier: " << (f.remap_merge_consider_earlier ? "true" : "false")
     << "\n"
+    << "  second_order_yaw: " << (f.second_order_yaw ? "true" : "false") << "\n"
     << "  invariant_reset: " << (f.invariant_reset ? "true" : "false") << "\n";
   s << "frontend:\n"
     << "  min_inliers: " << c.frontend.min_inliers << "\n"

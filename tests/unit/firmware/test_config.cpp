@@ -109,7 +109,7 @@ TEST(Config, SparseOdometryKeysParseAndAreRangeChecked) {
   const ConfigResult r = parse_config(
       "filter:\n  young_depth_given_pose: true\n  gyro_bias_state: true\n  gyro_bias_walk: 0.0005\n"
       "  hold_heading_when_still: false\n  reinit_behind_camera: true\n"
-      "  distance_scale_state: true\n",
+      "  distance_scale_state: true\n  second_order_yaw: true\n",
       "s.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
   EXPECT_TRUE(r.config.filter.young_depth_given_pose);
@@ -118,10 +118,12 @@ TEST(Config, SparseOdometryKeysParseAndAreRangeChecked) {
   EXPECT_FALSE(r.config.filter.hold_heading_when_still);
   EXPECT_TRUE(r.config.filter.reinit_behind_camera);
   EXPECT_TRUE(r.config.filter.distance_scale_state);
+  EXPECT_TRUE(r.config.filter.second_order_yaw);
   const FirmwareConfig defaults;
   EXPECT_TRUE(defaults.filter.hold_heading_when_still);
   EXPECT_FALSE(defaults.filter.gyro_bias_state || defaults.filter.reinit_behind_camera ||
-               defaults.filter.young_depth_given_pose || defaults.filter.distance_scale_state);
+               defaults.filter.young_depth_given_pose || defaults.filter.distance_scale_state ||
+               defaults.filter.second_order_yaw);
   const ConfigResult bad =
       parse_config("filter:\n  gyro_bias_walk: -1\n  gyro_bias_state: maybe\n", "b.yaml", {});
   ASSERT_EQ(bad.errors.size(), 2U) << joined(bad.errors);

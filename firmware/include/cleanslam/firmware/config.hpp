@@ -58,6 +58,9 @@ struct FilterSettings {
   // The merge corrects the robot toward the earlier entry and leaves the entry and its covariance
   // as they were (slam_core::EkfConfig::merge_considers_kept).
   bool remap_merge_consider_earlier = true;
+  // Second-order yaw terms in the camera measurement's covariance
+  // (slam_core::EkfConfig::second_order_yaw).
+  bool second_order_yaw = false;
   // The invariant EKF's covariance reset after each correction (slam_core::EkfConfig).
   bool invariant_reset = true;
 };

@@ -164,6 +164,8 @@ class Ekf {
   [[nodiscard]] bool valid_used_slot(int slot) const;
   // Unit vector from the camera to the landmark and its length; false for an unused slot.
   bool ray_to(int slot, Eigen::Vector3d& u, double& depth) const;
+  // Covariance of (y - x_vp, yaw) for a used slot (EkfConfig::second_order_yaw).
+  [[nodiscard]] Eigen::Matrix4d relative_yaw_covariance(int slot) const;
   int take_slot();
   void recompute_active_dim();
   ObservationResult measure(const Observation& o, Eigen::Vector3d& z, Eigen::Matrix3d& R,
