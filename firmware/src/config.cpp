@@ -149,6 +149,7 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.remap_merge_consider_earlier =
         f.flag("remap_merge_consider_earlier", x.remap_merge_consider_earlier);
     x.second_order_yaw = f.flag("second_order_yaw", x.second_order_yaw);
+    x.remap_merge_across_ray = f.flag("remap_merge_across_ray", x.remap_merge_across_ray);
     x.invariant_reset = f.flag("invariant_reset", x.invariant_reset);
     f.done();
   }
@@ -400,6 +401,7 @@ std::string config_text(const FirmwareConfig& c) {
     << "  remap_merge_consider_earlier: " << (f.remap_merge_consider_earlier ? "true" : "false")
     << "\n"
     << "  second_order_yaw: " << (f.second_order_yaw ? "true" : "false") << "\n"
+    << "  remap_merge_across_ray: " << (f.remap_merge_across_ray ? "true" : "false") << "\n"
     << "  invariant_reset: " << (f.invariant_reset ? "true" : "false") << "\n";
   s << "frontend:\n"
     << "  min_inliers: " << c.frontend.min_inliers << "\n"

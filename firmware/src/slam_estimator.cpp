@@ -31,6 +31,7 @@ slam_core::EkfConfig ekf_config(const FirmwareConfig& c) {
   e.invariant_reset = c.filter.invariant_reset;
   e.merge_considers_kept = c.filter.remap_merge_consider_earlier;
   e.second_order_yaw = c.filter.second_order_yaw;
+  e.merge_across_ray = c.filter.remap_merge_across_ray;
   e.max_depth_m = c.filter.max_depth_m;
   e.gyro_bias_state = c.filter.gyro_bias_state;
   e.gyro_bias_walk = c.filter.gyro_bias_walk;

@@ -136,11 +136,13 @@ TEST(Config, RemapKeysParseAndAreRangeChecked) {
   const ConfigResult r = parse_config(
       "filter:\n  remap_pixel_std_px: 0\n  remap_min_yaw_std_deg: 10\n"
       "  remap_max_mapped_in_view: 4\n  remap_merge_gate_chi2: 11.34\n"
-      "  remap_merge_consider_earlier: false\n",
+      "  remap_merge_consider_earlier: false\n  remap_merge_across_ray: true\n",
       "r.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
   EXPECT_TRUE(FirmwareConfig{}.filter.remap_merge_consider_earlier);
   EXPECT_FALSE(r.config.filter.remap_merge_consider_earlier);
+  EXPECT_FALSE(FirmwareConfig{}.filter.remap_merge_across_ray);
+  EXPECT_TRUE(r.config.filter.remap_merge_across_ray);
   EXPECT_EQ(r.config.filter.remap_pixel_std_px, 0.0);
   EXPECT_EQ(r.config.filter.remap_min_yaw_std_deg, 10.0);
   EXPECT_EQ(r.config.filter.remap_max_mapped_in_view, 4);
@@ -148,15 +150,16 @@ TEST(Config, RemapKeysParseAndAreRangeChecked) {
   const ConfigResult bad = parse_config(
       "filter:\n  remap_pixel_std_px: -1\n  remap_min_yaw_std_deg: 200\n"
       "  remap_max_mapped_in_view: -2\n  remap_merge_gate_chi2: x\n"
-      "  remap_merge_consider_earlier: 2\n",
+      "  remap_merge_consider_earlier: 2\n  remap_merge_across_ray: 1\n",
       "b.yaml", {});
-  ASSERT_EQ(bad.errors.size(), 5U) << joined(bad.errors);
+  ASSERT_EQ(bad.errors.size(), 6U) << joined(bad.errors);
   const std::string all = joined(bad.errors);
   EXPECT_NE(all.find("b.yaml:2: filter.remap_pixel_std_px"), std::string::npos) << all;
   EXPECT_NE(all.find("b.yaml:3: filter.remap_min_yaw_std_deg"), std::string::npos) << all;
   EXPECT_NE(all.find("b.yaml:4: filter.remap_max_mapped_in_view"), std::string::npos) << all;
   EXPECT_NE(all.find("b.yaml:5: filter.remap_merge_gate_chi2"), std::string::npos) << all;
   EXPECT_NE(all.find("b.yaml:6: filter.remap_merge_consider_earlier"), std::string::npos) << all;
+  EXPECT_NE(all.find("b.yaml:7: filter.remap_merge_across_ray"), std::string::npos) << all;
 }
 
 TEST(Config, InvariantResetIsOnByDefaultAndParses) {

@@ -99,7 +99,8 @@ struct EkfRun {
       u.dx_c = Eigen::Vector3d(0.05, 0.0, 0.0);
       u.dpsi_c = Eigen::Vector3d(0.0, 0.0, step % 40 < 20 ? 0.02 : -0.02);
       u.Q.diagonal() << 1e-5, 1e-6, 1e-7, 1e-7, 1e-7, 1e-6;
-      u.du_dbias << 0.0, 0.0, 0.0, 0.0, 0.0, -0.5;  // used by the gyro bias state only
+      u.du_dbias << 0.0, 0.0, 0.0, 0.0, 0.0, -0.5;   // used by the gyro bias state only
+      u.du_dscale << 0.05, 0.0, 0.0, 0.0, 0.0, 0.0;  // used by the distance scale state only
       u.dt_s = 0.5;
       ekf->predict(u);
       // New landmarks every step: the pool fills (128) and then recycles its least useful slots.
@@ -214,6 +215,35 @@ TEST(EstimatorAllocation, EkfWithInvariantResetAllocatesNothing) {
     EXPECT_GT(run.merged, 5);
     EXPECT_TRUE(run.finite);
     EXPECT_TRUE(ekf->state().allFinite());
+  }
+}
+
+// The cheap-odometry profile: both odometry error states, the second-order yaw terms, merges
+// across the ray.
+TEST(EstimatorAllocation, EkfWithTheCheapOdometryMechanismsAllocatesNothing) {
+  hal::Calibration calibration;
+  calibration.gyro.bias_instability = 0.005;
+  calibration.wheels.scale_error = 0.12;
+  cs::EkfConfig config;
+  config.invariant_reset = true;
+  config.merge_considers_kept = true;
+  config.merge_across_ray = true;
+  config.second_order_yaw = true;
+  config.gyro_bias_state = true;
+  config.gyro_bias_walk = 0.0005;
+  config.distance_scale_state = true;
+  for (const std::int64_t step : {std::int64_t{0}, std::int64_t{20000}}) {
+    auto ekf = std::make_unique<cs::Ekf>(calibration, config);
+    ekf->set_update_step(step);
+    ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6);
+    EkfRun run;
+    run.ekf = ekf.get();
+    run_with_small_stack(run);
+    EXPECT_EQ(run.allocations, 0U) << "step " << step;
+    EXPECT_GT(run.updates_applied, 50);
+    EXPECT_GT(run.merged, 5);
+    EXPECT_TRUE(run.finite);
+    EXPECT_GT(ekf->distance_scale_variance(), 0.0);
   }
 }
 

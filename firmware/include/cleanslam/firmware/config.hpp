@@ -61,6 +61,9 @@ struct FilterSettings {
   // Second-order yaw terms in the camera measurement's covariance
   // (slam_core::EkfConfig::second_order_yaw).
   bool second_order_yaw = false;
+  // Merges constrain only across the camera's ray to the remapped entry
+  // (slam_core::EkfConfig::merge_across_ray).
+  bool remap_merge_across_ray = false;
   // The invariant EKF's covariance reset after each correction (slam_core::EkfConfig).
   bool invariant_reset = true;
 };
