@@ -235,8 +235,12 @@ def replay_and_evaluate(tools, dataset, run_dir, replay_sets, emulator, log=None
     if os.path.isdir(run_dir):
         shutil.rmtree(run_dir)
     cmd = [tools["replay"], dataset, "--out", run_dir]
+    for kv in replay_sets:  # config=FILE loads a configuration file, section.key=value sets a key
+        if kv.startswith("config="):
+            cmd += ["--config", kv[len("config="):]]
     for kv in replay_sets:
-        cmd += ["--set", kv]
+        if not kv.startswith("config="):
+            cmd += ["--set", kv]
     proc = _exec(cmd, emulator, log)
     # A configuration key that does not exist would leave the run at the defaults, unnoticed.
     ignored = [ln for ln in proc.stderr.splitlines() if "unknown key" in ln]

@@ -35,6 +35,27 @@ TEST(Config, TheSampleDocumentsEveryKeyWithItsDefault) {
   EXPECT_TRUE(defaults.warnings.empty()) << joined(defaults.warnings);
 }
 
+TEST(Config, TheCheapOdometryProfileLoadsAndTurnsOnItsMechanisms) {
+  const std::string profile =
+      std::string(CLEANSLAM_SOURCE_DIR) + "/firmware/config/cheap-odometry.yaml";
+  const ConfigResult r = load_config(profile, {});
+  ASSERT_TRUE(r.ok()) << joined(r.errors);
+  EXPECT_TRUE(r.warnings.empty()) << joined(r.warnings);
+  const firmware::FilterSettings& f = r.config.filter;
+  EXPECT_EQ(f.eps_trk_px, 3.0);
+  EXPECT_TRUE(f.gyro_bias_state && f.gyro_errors_from_calibration && f.distance_scale_state &&
+              f.second_order_yaw && f.remap_merge_across_ray);
+  // Everything else stays at the defaults.
+  FirmwareConfig expected;
+  expected.filter.eps_trk_px = 3.0;
+  expected.filter.gyro_bias_state = true;
+  expected.filter.gyro_errors_from_calibration = true;
+  expected.filter.distance_scale_state = true;
+  expected.filter.second_order_yaw = true;
+  expected.filter.remap_merge_across_ray = true;
+  EXPECT_EQ(config_text(r.config), config_text(expected));
+}
+
 TEST(Config, CanonicalTextReadsBackToTheSameConfiguration) {
   const ConfigResult a = parse_config(
       "filter:\n  eps_ct_m: 123.456789\nloop:\n  gyro_timeout_s: 0.123\nsource:\n  kind: log\n"
