@@ -23,6 +23,24 @@ double asymmetry(const Eigen::MatrixXd& P) {
   return worst;
 }
 
+// x_after, P_after equal x_ref, P_ref outside the dropped slot's rows and columns [d, d + 3).
+void expect_equal_outside(const Eigen::VectorXd& x_after, const Eigen::MatrixXd& P_after,
+                          const Eigen::VectorXd& x_ref, const Eigen::MatrixXd& P_ref, int d) {
+  const auto n = static_cast<int>(x_ref.size());
+  for (int i = 0; i < n; ++i) {
+    if (i >= d && i < d + 3) {
+      continue;
+    }
+    EXPECT_NEAR(x_after(i), x_ref(i), 1e-9 * (1.0 + std::abs(x_ref(i)))) << "row " << i;
+    for (int j = 0; j < n; ++j) {
+      if (j < d || j >= d + 3) {
+        EXPECT_NEAR(P_after(i, j), P_ref(i, j), 1e-9 * (1.0 + std::abs(P_ref(i, j))))
+            << i << "," << j;
+      }
+    }
+  }
+}
+
 cs::EkfConfig merge_config(bool considers_kept, bool across_ray = false) {
   cs::EkfConfig config;
   config.merge_considers_kept = considers_kept;
@@ -218,18 +236,7 @@ TEST_F(EkfConsideredMergeTest, EqualsTheDenseSchmidtUpdateAndLeavesTheKeptEntryA
   EXPECT_TRUE((P_after.block<3, 3>(k, k) == P.block<3, 3>(k, k)));
   EXPECT_GT((x_after.head<6>() - x.head<6>()).norm(), 1e-3);  // the robot is what moves
   const int d = 6 + 3 * drop;
-  for (int i = 0; i < n; ++i) {
-    if (i >= d && i < d + 3) {
-      continue;
-    }
-    EXPECT_NEAR(x_after(i), x_ref(i), 1e-9 * (1.0 + std::abs(x_ref(i)))) << "row " << i;
-    for (int j = 0; j < n; ++j) {
-      if (j < d || j >= d + 3) {
-        EXPECT_NEAR(P_after(i, j), P_ref(i, j), 1e-9 * (1.0 + std::abs(P_ref(i, j))))
-            << i << "," << j;
-      }
-    }
-  }
+  expect_equal_outside(x_after, P_after, x_ref, P_ref, d);
   EXPECT_EQ(asymmetry(P_after), 0.0);
   EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P_after).eigenvalues().minCoeff(),
             -1e-12);
@@ -272,18 +279,7 @@ TEST_F(EkfAcrossRayMergeTest, EqualsTheDenseUpdateOfTheConstraintAcrossTheRay) {
   const Eigen::MatrixXd P_after = ekf_.covariance().topLeftCorner(n, n);
   EXPECT_TRUE(x_after.segment<3>(k) == x.segment<3>(k));
   EXPECT_TRUE((P_after.block<3, 3>(k, k) == P.block<3, 3>(k, k)));
-  for (int i = 0; i < n; ++i) {
-    if (i >= d && i < d + 3) {
-      continue;
-    }
-    EXPECT_NEAR(x_after(i), x_ref(i), 1e-9 * (1.0 + std::abs(x_ref(i)))) << "row " << i;
-    for (int j = 0; j < n; ++j) {
-      if (j < d || j >= d + 3) {
-        EXPECT_NEAR(P_after(i, j), P_ref(i, j), 1e-9 * (1.0 + std::abs(P_ref(i, j))))
-            << i << "," << j;
-      }
-    }
-  }
+  expect_equal_outside(x_after, P_after, x_ref, P_ref, d);
   EXPECT_EQ(asymmetry(P_after), 0.0);
   EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P_after).eigenvalues().minCoeff(),
             -1e-12);
