@@ -47,7 +47,10 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
   Eigen::Matrix3d T = Eigen::Matrix3d::Identity();
   if (config_.merge_across_ray) {
     T = across(x_.segment<3>(b) - x_.head<3>());
-    PHt = (PHt * T.transpose()).eval();
+    for (int i = 0; i < n; ++i) {  // row by row: no temporary of n rows
+      const Eigen::Vector3d row = PHt.row(i).transpose();
+      PHt.row(i) = (T * row).transpose();
+    }
   }
   Eigen::Matrix3d S = PHt.middleRows<3>(a) - PHt.middleRows<3>(b);
   if (config_.merge_across_ray) {
