@@ -58,6 +58,9 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
   }
   S = (0.5 * (S + S.transpose())).eval();
   S.diagonal().array() += merge_std_m * merge_std_m;
+  if (config_.merge_across_ray) {
+    S(2, 2) = 1.0;  // the zero component: any variance, so that merge_std_m = 0 is allowed
+  }
   const Eigen::LLT<Eigen::Matrix3d> llt(S);
   if (llt.info() != Eigen::Success) {
     return ObservationResult::kNotPositiveDefinite;

@@ -286,4 +286,15 @@ TEST_F(EkfAcrossRayMergeTest, EqualsTheDenseUpdateOfTheConstraintAcrossTheRay) {
   EXPECT_GT((x_after.head<6>() - x.head<6>()).norm(), 1e-4);
 }
 
+// The third, zero component of the constraint across the ray must not need merge noise.
+TEST_F(EkfAcrossRayMergeTest, MergesWithoutAddedNoise) {
+  const Scene sc = scene(143.0, 108.0, 0.0);
+  ASSERT_GE(sc.keep, 0);
+  ASSERT_GE(sc.drop, 0);
+  ASSERT_EQ(ekf_.merge_landmarks(sc.keep, sc.drop, 0.0, 0.0), cs::ObservationResult::kFused);
+  EXPECT_FALSE(ekf_.slot_used(sc.drop));
+  EXPECT_TRUE(ekf_.state().allFinite());
+  EXPECT_GE(ekf_.last_merge_test_ratio(), 0.0);
+}
+
 }  // namespace

@@ -81,8 +81,8 @@ class Ekf {
   // changed) otherwise.
   ObservationResult merge_landmarks(int keep, int drop, double gate_chi2,
                                     double merge_std_m = 0.01);
-  // The last merge's test ratio (its innovation's squared Mahalanobis norm, 3 dof), gated or not;
-  // -1 when it did not get that far.
+  // The last merge's test ratio (its innovation's squared Mahalanobis norm, 3 dof or 2 across the
+  // ray), gated or not; -1 when it did not get that far.
   [[nodiscard]] double last_merge_test_ratio() const { return merge_test_ratio_; }
 
   // Per-observation gates (3-D and pixel), then one batch Joseph-form update of the survivors (eq.
