@@ -57,6 +57,14 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
   if (!doc.ok()) return R::failure(doc.error());
   yaml::Diagnostics diag;
   yaml::MappingReader root(*doc, "", diag);
+  // An optional fraction: outside [0, 1] it is an error naming line and key.
+  const auto check_fraction = [&diag](yaml::MappingReader& m, const char* key) {
+    const yaml::Node* n = m.node(key);
+    auto v = n != nullptr ? yaml::as_double(*n, m.path(key)) : Result<double>(0.0);
+    if (v.ok() && !(*v >= 0.0 && *v <= 1.0)) {
+      diag.errors.push_back(n->location.str() + ": " + m.path(key) + ": must be within [0, 1]");
+    }
+  };
   if (doc->is_null()) return R::failure(file_name + ":1: empty document, expected sensors");
   hal::Calibration c;
   {
@@ -113,13 +121,7 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
         diag.errors.push_back(n->location.str() + ": " + w.path(key) + ": must be positive");
       }
     }
-    if (const yaml::Node* n = w.node("scale_error")) {
-      auto v = yaml::as_double(*n, w.path("scale_error"));
-      if (v.ok() && !(*v >= 0.0 && *v <= 1.0)) {
-        diag.errors.push_back(n->location.str() + ": " + w.path("scale_error") +
-                              ": must be within [0, 1]");
-      }
-    }
+    check_fraction(w, "scale_error");
     w.report_unknown_keys();
   }
   {
@@ -128,13 +130,8 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
     c.gyro.bias_instability = g.optional_double("bias_instability", c.gyro.bias_instability);
     c.gyro.scale_error = g.optional_double("scale_error", c.gyro.scale_error);
     c.gyro.bias_walk = g.optional_double("bias_walk", c.gyro.bias_walk);
-    for (const char* key : {"scale_error", "bias_walk"}) {
-      const yaml::Node* n = g.node(key);
-      auto v = n != nullptr ? yaml::as_double(*n, g.path(key)) : Result<double>(0.0);
-      if (v.ok() && !(*v >= 0.0 && *v <= 1.0)) {
-        diag.errors.push_back(n->location.str() + ": " + g.path(key) + ": must be within [0, 1]");
-      }
-    }
+    check_fraction(g, "scale_error");
+    check_fraction(g, "bias_walk");
     g.report_unknown_keys();
   }
   root.report_unknown_keys();
