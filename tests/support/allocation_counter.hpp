@@ -2,9 +2,11 @@
 
 #include <cstddef>
 
-// Counts global operator new calls made while a scope is armed. Link cleanslam_test_alloc into a
-// test binary to replace the global allocation functions; pair it with Eigen's run-time malloc
-// check (Eigen::internal::set_is_malloc_allowed(false)), which catches Eigen's own allocations.
+// Counts heap allocations made while a scope is armed. Link cleanslam_test_alloc into a test binary
+// to replace its allocation functions: the C allocator's (malloc, calloc, realloc, the aligned
+// ones), which operator new and Eigen both use; under ASan, which owns malloc, operator new's only.
+// Pair it with Eigen's run-time malloc check (Eigen::internal::set_is_malloc_allowed(false)), which
+// catches Eigen's own allocations in the builds that keep assertions.
 namespace cleanslam::test {
 
 std::size_t allocations_so_far();
@@ -15,7 +17,7 @@ class AllocationScope {
   ~AllocationScope();
   AllocationScope(const AllocationScope&) = delete;
   AllocationScope& operator=(const AllocationScope&) = delete;
-  // operator new calls since construction.
+  // Allocations since construction.
   [[nodiscard]] std::size_t count() const;
 
  private:
