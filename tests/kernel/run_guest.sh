@@ -103,7 +103,7 @@ chmod +x "$rd/init" "$rd"/checkers/*
 # 3. Boot, feed the monitor what the guest asks for, read the verdict.
 exec python3 "$here/guest_console.py" --timeout "$timeout" --log "$work/console.log" $any_verdict \
   --monitor "$work/monitor.sock" -- \
-  qemu-system-aarch64 -M virt -cpu cortex-a57 -smp 1 -m 512 -nographic -no-reboot \
+  qemu-system-aarch64 -M virt -cpu cortex-a57 -smp 1 -m 512 -nographic -no-reboot -nic none \
   -kernel "$kroot/boot/vmlinuz-$kver" -initrd "$work/initrd.cpio.gz" \
   -append "console=ttyAMA0 rdinit=/init panic=-1 quiet loglevel=3" \
   -monitor "unix:$work/monitor.sock,server,nowait"
