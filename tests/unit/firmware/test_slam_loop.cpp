@@ -94,16 +94,16 @@ TEST(SlamLoop, NoHeapAllocationAfterStartupWithTheEkf) {
   const hal::TimeNs t0 = run.source.items.front().due;
   const hal::TimeNs t1 = run.source.items.back().due;
   loop.start(t0);
-  std::size_t news = 0;
+  std::size_t allocations = 0;
   {
     test::AllocationScope scope;
     for (hal::TimeNs t = t0; t <= t1 + hal::kNsPerSecond; t += 5 * hal::kNsPerMillisecond) {
       loop.iterate(t);
     }
-    news = scope.count();
+    allocations = scope.count();
   }
   loop.finish();
-  EXPECT_EQ(news, 0U);
+  EXPECT_EQ(allocations, 0U);
   EXPECT_GT(loop.stats().frames_done, 50U);
   EXPECT_GT(loop.stats().update_records, 200U);
   EXPECT_GT(estimator.ekf().landmark_count(), 5);
@@ -124,7 +124,7 @@ TEST(SlamLoop, ImageFramesGoThroughThePipelineInBoundedStepsWithoutAllocation) {
   const hal::TimeNs t0 = run.source.items.front().due;
   const hal::TimeNs t1 = run.source.items.back().due;
   loop.start(t0);
-  std::size_t news = 0;
+  std::size_t allocations = 0;
   std::uint64_t iterations_with_frame_work = 0;
   {
     test::AllocationScope scope;
@@ -132,9 +132,9 @@ TEST(SlamLoop, ImageFramesGoThroughThePipelineInBoundedStepsWithoutAllocation) {
       iterations_with_frame_work += loop.frame_work_pending() ? 1 : 0;
       loop.iterate(t);
     }
-    news = scope.count();
+    allocations = scope.count();
   }
-  EXPECT_EQ(news, 0U);
+  EXPECT_EQ(allocations, 0U);
   EXPECT_EQ(estimator.image_frames(), loop.stats().frames_done);
   EXPECT_GE(loop.stats().frames_done, 25U);
   EXPECT_GT(iterations_with_frame_work, 3 * loop.stats().frames_done);  // several steps a frame
