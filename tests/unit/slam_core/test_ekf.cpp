@@ -9,6 +9,7 @@
 #include "cleanslam/slam_core/ekf.hpp"
 #include "cleanslam/slam_core/prediction_model.hpp"
 #include "ekf_dense_reference.hpp"
+#include "symmetric_eigen.hpp"
 
 namespace cs = cleanslam::slam_core;
 namespace hal = cleanslam::hal;
@@ -59,7 +60,7 @@ class EkfTest : public ::testing::Test {
   double min_eigenvalue() const {
     const int n = ekf_->active_dim();
     const Eigen::MatrixXd P = ekf_->covariance().topLeftCorner(n, n);
-    return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P).eigenvalues().minCoeff();
+    return cleanslam::test::min_eigenvalue(P);
   }
   double asymmetry() const {
     const Eigen::MatrixXd& P = ekf_->covariance();
@@ -100,9 +101,7 @@ TEST_F(EkfTest, InitializationPlacesLandmarkOnRayWithCrossCovariances) {
   EXPECT_EQ(asymmetry(), 0.0);
   // Large along the ray: the landmark's largest standard deviation is about eps_ct.
   const double largest =
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(ekf_->landmark_covariance(slot))
-          .eigenvalues()
-          .maxCoeff();
+      cleanslam::test::symmetric_eigen(ekf_->landmark_covariance(slot)).values.maxCoeff();
   EXPECT_NEAR(std::sqrt(largest), 30.0, 0.1);
 }
 
@@ -195,10 +194,10 @@ TEST_F(EkfTest, RejectsBadObservationsWithReasonAndLeavesStateUnchanged) {
   const Eigen::MatrixXd P0 = ekf_->covariance();
   const Eigen::Vector2d good = pixel_of(ekf_->landmark(0));
   // Off the landmark's epipolar line (its uncertainty is long along its first ray).
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(ekf_->landmark_covariance(2));
+  const auto es = cleanslam::test::symmetric_eigen(ekf_->landmark_covariance(2));
   const Eigen::Vector2d p2 = pixel_of(ekf_->landmark(2));
   const Eigen::Vector2d along =
-      (pixel_of(ekf_->landmark(2) + 0.5 * es.eigenvectors().col(2)) - p2).normalized();
+      (pixel_of(ekf_->landmark(2) + 0.5 * es.vectors.col(2)) - p2).normalized();
   const Eigen::Vector2d off = p2 + 40.0 * Eigen::Vector2d(-along.y(), along.x());
   std::array<cs::Observation, 6> obs{{{0, std::nan(""), 10.0},
                                       {1, 500.0, 10.0},

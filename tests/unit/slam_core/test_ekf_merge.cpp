@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 
 #include "cleanslam/slam_core/ekf.hpp"
+#include "symmetric_eigen.hpp"
 
 // Ekf::merge_landmarks: the linear constraint y_keep - y_drop = 0 against a dense Kalman update.
 namespace cs = cleanslam::slam_core;
@@ -147,8 +148,7 @@ TEST_F(EkfMergeTest, EqualsTheDenseKalmanUpdateAndFreesTheDroppedSlot) {
     }
   }
   EXPECT_EQ(asymmetry(P_after), 0.0);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(P_after);
-  EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-12);
+  EXPECT_GE(cleanslam::test::min_eigenvalue(P_after), -1e-12);
   // The kept landmark now has the smaller uncertainty of the two along the dropped one's ray.
   const int k = 6 + 3 * keep;
   const double before = P.block(k, k, 3, 3).trace();
@@ -177,7 +177,7 @@ TEST_F(EkfMergeTest, TwoDifferentPointsAreGatedAndNothingChanges) {
   const int n = ekf_.active_dim();
   const Eigen::MatrixXd P2 = ekf_.covariance().topLeftCorner(n, n);
   EXPECT_EQ(asymmetry(P2), 0.0);
-  EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P2).eigenvalues().minCoeff(), -1e-12);
+  EXPECT_GE(cleanslam::test::min_eigenvalue(P2), -1e-12);
 }
 
 TEST_F(EkfMergeTest, UnusedOrEqualSlotsAndBadNoiseAreRefused) {
@@ -238,13 +238,11 @@ TEST_F(EkfConsideredMergeTest, EqualsTheDenseSchmidtUpdateAndLeavesTheKeptEntryA
   const int d = 6 + 3 * drop;
   expect_equal_outside(x_after, P_after, x_ref, P_ref, d);
   EXPECT_EQ(asymmetry(P_after), 0.0);
-  EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P_after).eigenvalues().minCoeff(),
-            -1e-12);
+  EXPECT_GE(cleanslam::test::min_eigenvalue(P_after), -1e-12);
   Eigen::MatrixXd excess = P_after - P_opt;
   excess.middleRows<3>(d).setZero();
   excess.middleCols<3>(d).setZero();
-  EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(excess).eigenvalues().minCoeff(),
-            -1e-12);
+  EXPECT_GE(cleanslam::test::min_eigenvalue(excess), -1e-12);
   EXPECT_GT(excess.trace(), 1e-6);
 }
 
@@ -281,8 +279,7 @@ TEST_F(EkfAcrossRayMergeTest, EqualsTheDenseUpdateOfTheConstraintAcrossTheRay) {
   EXPECT_TRUE((P_after.block<3, 3>(k, k) == P.block<3, 3>(k, k)));
   expect_equal_outside(x_after, P_after, x_ref, P_ref, d);
   EXPECT_EQ(asymmetry(P_after), 0.0);
-  EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P_after).eigenvalues().minCoeff(),
-            -1e-12);
+  EXPECT_GE(cleanslam::test::min_eigenvalue(P_after), -1e-12);
   EXPECT_GT((x_after.head<6>() - x.head<6>()).norm(), 1e-4);
 }
 
