@@ -95,7 +95,9 @@ struct EkfRun {
     std::array<cs::Observation, hal::kMaxObservationsPerFrame> obs{};
     std::array<double, 2 * hal::kMaxObservationsPerFrame> nu{};
     std::array<double, 4 * hal::kMaxObservationsPerFrame * hal::kMaxObservationsPerFrame> S{};
-    for (int step = 0; step < 160; ++step) {
+    // 80 steps: at 3 a step the pool (128) is full by step 43, and the rest recycle it; emulated,
+    // each run takes seconds.
+    for (int step = 0; step < 80; ++step) {
       cs::OdometryIncrement u;
       u.dx_c = Eigen::Vector3d(0.05, 0.0, 0.0);
       u.dpsi_c = Eigen::Vector3d(0.0, 0.0, step % 40 < 20 ? 0.02 : -0.02);
@@ -104,7 +106,7 @@ struct EkfRun {
       u.du_dscale << 0.05, 0.0, 0.0, 0.0, 0.0, 0.0;  // used by the distance scale state only
       u.dt_s = 0.5;
       ekf->predict(u);
-      // New landmarks every step: the pool fills (128) and then recycles its least useful slots.
+      // New landmarks every step: the pool fills and then recycles its least useful slots.
       for (int k = 0; k < 3; ++k) {
         const double uu = 20.0 + static_cast<double>((step * 7 + k * 97) % 280);
         const double vv = 20.0 + static_cast<double>((step * 13 + k * 61) % 200);
