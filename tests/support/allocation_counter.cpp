@@ -132,7 +132,6 @@ std::size_t allocations_so_far() {
 }
 
 AllocationScope::AllocationScope() : start_(allocations_so_far()) {}
-AllocationScope::~AllocationScope() = default;
 std::size_t AllocationScope::count() const {
   return allocations_so_far() - start_;
 }

@@ -14,7 +14,6 @@ std::size_t allocations_so_far();
 class AllocationScope {
  public:
   AllocationScope();
-  ~AllocationScope();
   AllocationScope(const AllocationScope&) = delete;
   AllocationScope& operator=(const AllocationScope&) = delete;
   // Allocations since construction.
