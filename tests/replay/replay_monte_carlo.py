@@ -126,10 +126,13 @@ check(p.returncode == 2, f"--runs 0: exit {p.returncode}")
 
 # Scenario table: two configurations, Markdown.
 table_out = os.path.join(work, "table")
+table_png = os.path.join(work, "table.png")
 p = run("scenario_table.py", "--seeds", "1-2", "--sim-set", "duration_s=60", "--config",
         "defaults", "--config", "gate1:frontend.min_inliers=1,filter.eps_ct_m=100", "--out",
-        table_out)
+        table_out, "--plot", table_png)
 check(p.returncode == 0, f"scenario_table exit status {p.returncode}")
+check(os.path.getsize(table_png) > 1000 if os.path.exists(table_png) else False,
+      "table plot written")
 check("| seed | path m | DR ATE m | SLAM ATE m (defaults) | NEES (defaults) | "
       "SLAM ATE m (gate1) | NEES (gate1) |" in p.stdout, "table header")
 for seed in ("1", "2", "mean"):
@@ -141,6 +144,10 @@ p = run("scenario_table.py", "--seeds", "1", "--sim-set", "duration_s=30", "--co
 check(p.returncode == 1 and "FAILED" in p.stdout, f"table bad key: exit {p.returncode}")
 p = run("scenario_table.py", "--config", "bad name:a=1")
 check(p.returncode == 2, f"table bad config name: exit {p.returncode}")
+missing_png = os.path.join(work, "no_such_folder", "table.png")
+p = run("scenario_table.py", "--plot", missing_png)
+check(p.returncode == 2 and missing_png in p.stderr,
+      f"table plot folder missing: exit {p.returncode}")
 
 # sighting_bound.py: its DR ATE is cleanslam-eval's; restarted from the truth at every sighting
 # dead reckoning does better; with a perfect dead reckoner both are zero.

@@ -3,12 +3,14 @@
 estimator configuration, to show what each mechanism does with and without it.
 
   tools/eval/scenario_table.py [--config NAME:key=value,key=value ...] [--default-room]
-                               [--seeds 1-10] [--jobs J] [--out DIR] [--json]
+                               [--seeds 1-10] [--jobs J] [--out DIR] [--json] [--plot PNG]
 
 Each dataset (sparse-poor-odometry, and default-room with --default-room, seeds --seeds) is
 simulated once and replayed with every configuration; keys are cleanslam-replay --set keys
 (section.key=value, see firmware/config/cleanslam.sample.yaml). Without --config one
-configuration, "defaults", with no override. Progress on stderr, the table on stdout.
+configuration, "defaults", with no override. Progress on stderr, the table on stdout. --plot
+draws, per scenario and seed, each configuration's SLAM ATE as a fraction of dead reckoning's
+(against the lines at 1 and 1/2) and its position NEES per degree of freedom (against [0.5, 2]).
 Exit status 0 unless a run failed to execute (1) or the arguments are wrong (2).
 """
 
@@ -128,6 +130,51 @@ def markdown(scenario, seeds, configs, results, failures):
     return "\n".join(lines)
 
 
+def plot(scenarios, seeds, configs, results, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import FuncFormatter, LogLocator
+    names = [n for n, _ in configs]
+    fig, axes = plt.subplots(len(scenarios), 2, figsize=(13, 4.2 * len(scenarios)), squeeze=False)
+    width = 0.8 / len(names)
+    for row, sc in enumerate(scenarios):
+        ax_ate, ax_nees = axes[row]
+        for i, n in enumerate(names):
+            xs, ratio, xn, nees = [], [], [], []
+            for j, seed in enumerate(seeds):
+                r = results.get((sc, seed, n))
+                if r is None:
+                    continue
+                if r["dr_ate_m"] > 0:
+                    xs.append(j + (i - (len(names) - 1) / 2) * width)
+                    ratio.append(r["slam_ate_m"] / r["dr_ate_m"])
+                if r["nees_mean"] is not None:
+                    xn.append(j + (i - (len(names) - 1) / 2) * width)
+                    nees.append(r["nees_mean"] / mc.NEES_DOF)
+            ax_ate.bar(xs, ratio, width, label=n)
+            ax_nees.bar(xn, nees, width, label=n)
+        ax_ate.axhline(1.0, color="k", lw=0.8, label="dead reckoning")
+        ax_ate.axhline(0.5, color="r", ls="--", lw=0.8, label="half of dead reckoning")
+        ax_ate.set_ylabel("SLAM ATE / DR ATE")
+        ax_ate.set_title(f"{sc}: SLAM ATE as a fraction of dead reckoning's")
+        ax_nees.set_yscale("log")
+        ax_nees.yaxis.set_major_locator(LogLocator(base=2))
+        ax_nees.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        ax_nees.axhline(0.5, color="g", ls="--", lw=1.0, label="band [0.5, 2]")
+        ax_nees.axhline(2.0, color="g", ls="--", lw=1.0)
+        ax_nees.axhline(1.0, color="k", ls=":", lw=0.8)
+        ax_nees.set_ylabel("mean position NEES per dof")
+        ax_nees.set_title(f"{sc}: NEES per degree of freedom (1 if consistent)")
+        for ax in (ax_ate, ax_nees):
+            ax.set_xticks(range(len(seeds)), [str(s) for s in seeds])
+            ax.set_xlabel("seed")
+            ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -141,6 +188,7 @@ def main(argv=None):
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--out", help="keep datasets and runs here (default: temporary)")
     ap.add_argument("--json", action="store_true", help="one JSON object instead of Markdown")
+    ap.add_argument("--plot", metavar="PNG", help="write a PNG: ATE against DR's, NEES per dof")
     ap.add_argument("--bin", default=mc.DEFAULT_BIN)
     ap.add_argument("--emulator", default="", help="command prefix for the programs")
     a = ap.parse_args(argv)
@@ -155,6 +203,8 @@ def main(argv=None):
     for kv in a.sim_sets:
         if "=" not in kv:
             ap.error(f"--sim-set '{kv}': expected key=value")
+    if a.plot and not os.path.isdir(os.path.dirname(os.path.abspath(a.plot))):
+        ap.error(f"--plot {a.plot}: its folder does not exist")
     try:
         tools = mc.find_tools(a.bin)
     except mc.RunError as e:
@@ -195,6 +245,14 @@ def main(argv=None):
         if not a.out:
             shutil.rmtree(work, ignore_errors=True)
 
+    plot_failed = False
+    if a.plot:
+        try:
+            plot(scenarios, seeds, configs, results, a.plot)
+            print(f"scenario_table: wrote {a.plot}", file=sys.stderr)
+        except OSError as e:
+            print(f"scenario_table: --plot {a.plot}: {e}", file=sys.stderr)
+            plot_failed = True
     if a.json:
         rows = [{"scenario": k[0], "seed": k[1], "config": k[2]} |
                 {f: v for f, v in r.items() if f not in ("pose_nees_times_s", "pose_nees")}
@@ -209,7 +267,7 @@ def main(argv=None):
                           for sc in scenarios))
         for k, v in list(sim_failures.items()) + list(run_failures.items()):
             print(f"\nFAILED {' '.join(map(str, k))}: {v}")
-    return 1 if sim_failures or run_failures else 0
+    return 1 if sim_failures or run_failures or plot_failed else 0
 
 
 if __name__ == "__main__":
