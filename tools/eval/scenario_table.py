@@ -169,7 +169,7 @@ def plot(scenarios, seeds, configs, results, path):
         for ax in (ax_ate, ax_nees):
             ax.set_xticks(range(len(seeds)), [str(s) for s in seeds])
             ax.set_xlabel("seed")
-            ax.legend(fontsize=8)
+            ax.legend(fontsize=8, ncol=4, loc="upper center", bbox_to_anchor=(0.5, -0.14))
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
