@@ -34,11 +34,6 @@ namespace sim = cleanslam::sim_hal::sim;
 
 namespace {
 
-// The simulator's generator streams (simulator.cpp) this tool must draw exactly as it does.
-constexpr std::uint64_t kWorldStream = 1;
-constexpr std::uint64_t kPathStream = 2;
-constexpr std::uint64_t kImageStream = 6;
-
 struct Options {
   std::string scenario;
   std::vector<std::string> overrides;
@@ -338,8 +333,8 @@ int main(int argc, char** argv) {
   }
   const sim::Scenario& sc = loaded.value();
   const auto& cam = sc.camera;
-  sim::Random world_rng(sc.seed, kWorldStream);
-  sim::Random path_rng(sc.seed, kPathStream);
+  sim::Random world_rng(sc.seed, sim::stream::kWorld);
+  sim::Random path_rng(sc.seed, sim::stream::kPath);
   const sim::World world(sc, world_rng);
   const sim::PathPlan plan = sim::plan_path(sc, path_rng);
   const sim::Trajectory traj(plan.primitives, plan.start,
@@ -348,7 +343,7 @@ int main(int argc, char** argv) {
   if (!o.dataset.empty() || !o.diagnostics.empty()) {
     return replay_errors(o, sc, traj, renderer);
   }
-  sim::Random image_rng(sc.seed, kImageStream);
+  sim::Random image_rng(sc.seed, sim::stream::kImage);
   sim::Random pred_rng(sc.seed, 99);
   const sim::Pose3 bc = sim::body_to_camera(cam);
 

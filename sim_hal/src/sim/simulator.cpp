@@ -18,9 +18,6 @@ namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
-// Independent generator streams of one seed.
-enum Stream : std::uint64_t { kWorld = 1, kPath, kGyro, kEncoders, kCamera, kImage };
-
 hal::TimeNs to_ns(double s) {
   return static_cast<hal::TimeNs>(std::llround(s * 1e9));
 }
@@ -112,8 +109,8 @@ std::vector<Visible> visible_landmarks(const Scenario::Camera& c, const World& w
 Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_dir,
                                    const std::function<void(double)>& progress) {
   using R = Result<SimulationSummary>;
-  Random world_rng(sc.seed, kWorld);
-  Random path_rng(sc.seed, kPath);
+  Random world_rng(sc.seed, stream::kWorld);
+  Random path_rng(sc.seed, stream::kPath);
   const World world(sc, world_rng);
   const PathPlan plan = plan_path(sc, path_rng);
   const double true_wheel_base = sc.robot.wheel_base * (1.0 + sc.encoders.wheel_base_error);
@@ -156,7 +153,7 @@ Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_di
   report(0.1);
   // Gyro: (1 + scale) * mean true rate over the sample interval + bias (random walk) + white noise.
   {
-    Random rng(sc.seed, kGyro);
+    Random rng(sc.seed, stream::kGyro);
     const auto& g = sc.gyro;
     const double dt = 1.0 / g.rate_hz;
     const double white = g.noise_density * std::sqrt(g.rate_hz);
@@ -179,7 +176,7 @@ Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_di
   report(0.3);
   // Encoders: per-wheel scale error, relative noise, slips, quantization, 32-bit wrap.
   {
-    Random rng(sc.seed, kEncoders);
+    Random rng(sc.seed, stream::kEncoders);
     const auto& e = sc.encoders;
     const double dt = 1.0 / e.rate_hz;
     const double phase = 0.003;
@@ -222,8 +219,8 @@ Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_di
   // Camera (feature mode): landmarks in view at the true capture time, pixel noise, outliers;
   // the stamp carries jitter.
   {
-    Random rng(sc.seed, kCamera);
-    Random image_rng(sc.seed, kImage);
+    Random rng(sc.seed, stream::kCamera);
+    Random image_rng(sc.seed, stream::kImage);
     const auto& c = sc.camera;
     const bool write_features = c.mode == "features" || c.mode == "both";
     const bool write_images = c.mode == "images" || c.mode == "both";

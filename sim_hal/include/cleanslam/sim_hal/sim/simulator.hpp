@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -12,6 +13,17 @@
 #include "cleanslam/sim_hal/sim/world.hpp"
 
 namespace cleanslam::sim_hal::sim {
+
+// The independent generator streams of one seed (Random's `stream`), one per part of the world or
+// sensor. A tool that regenerates part of a simulation (cleanslam-frontend-truth) draws from these.
+namespace stream {
+inline constexpr std::uint64_t kWorld = 1;
+inline constexpr std::uint64_t kPath = 2;
+inline constexpr std::uint64_t kGyro = 3;
+inline constexpr std::uint64_t kEncoders = 4;
+inline constexpr std::uint64_t kCamera = 5;
+inline constexpr std::uint64_t kImage = 6;
+}  // namespace stream
 
 // The camera optical frame (z forward, x right, y down) in the body frame: `forward_m` ahead of
 // the wheel axis, `height_m` above the floor, pitched up by `tilt_deg`.
