@@ -84,6 +84,8 @@ void* __libc_malloc(std::size_t size);
 void* __libc_calloc(std::size_t count, std::size_t size);
 void* __libc_realloc(void* p, std::size_t size);
 void* __libc_memalign(std::size_t align, std::size_t size);
+void* __libc_valloc(std::size_t size);
+void* __libc_pvalloc(std::size_t size);
 void __libc_free(void* p);
 
 void* malloc(std::size_t size) noexcept {
@@ -108,6 +110,14 @@ void* memalign(std::size_t align, std::size_t size) noexcept {
 void* aligned_alloc(std::size_t align, std::size_t size) noexcept {
   count_allocation();
   return __libc_memalign(align, size);
+}
+void* valloc(std::size_t size) noexcept {
+  count_allocation();
+  return __libc_valloc(size);
+}
+void* pvalloc(std::size_t size) noexcept {
+  count_allocation();
+  return __libc_pvalloc(size);
 }
 int posix_memalign(void** out, std::size_t align, std::size_t size) noexcept {
   if (align < sizeof(void*) || (align & (align - 1)) != 0) {

@@ -2,6 +2,8 @@
 #include <cstdlib>
 #include <new>
 
+#include <malloc.h>
+
 #include <gtest/gtest.h>
 #include <Eigen/Core>
 
@@ -66,13 +68,17 @@ TEST(AllocationCounter, CountsMallocCallocReallocAndAligned) {
   void* d = std::aligned_alloc(64, 2 * g_size);
   void* e = nullptr;
   const int rc = posix_memalign(&e, 64, g_size);
+  void* f = valloc(g_size);
+  void* g = pvalloc(g_size);
   const std::size_t n = scope.count();
   std::free(b);
   std::free(c);
   std::free(d);
   std::free(e);
+  std::free(f);
+  std::free(g);
   EXPECT_EQ(rc, 0);
-  EXPECT_EQ(n, 5U);
+  EXPECT_EQ(n, 7U);
 }
 #endif
 
