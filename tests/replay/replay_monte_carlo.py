@@ -144,6 +144,24 @@ p = run("scenario_table.py", "--seeds", "1", "--sim-set", "duration_s=30", "--co
 check(p.returncode == 1 and "FAILED" in p.stdout, f"table bad key: exit {p.returncode}")
 p = run("scenario_table.py", "--config", "bad name:a=1")
 check(p.returncode == 2, f"table bad config name: exit {p.returncode}")
+# --bound: full_slam_bound.py's result on each dataset and the first configuration's run, in the
+# JSON and as a column of the table.
+bound_out = os.path.join(work, "table_bound")
+p = run("scenario_table.py", "--seeds", "1", "--sim-set", "duration_s=30", "--out", bound_out,
+        "--bound", "--json")
+check(p.returncode == 0, f"scenario_table --bound exit status {p.returncode}")
+tb = json.loads(p.stdout)["bounds"] if p.returncode == 0 else []
+direct = subprocess.run(
+    [sys.executable, os.path.join(EVAL, "full_slam_bound.py"),
+     os.path.join(bound_out, "sparse-poor-odometry_seed_1", "dataset"),
+     os.path.join(bound_out, "sparse-poor-odometry_seed_1", "run_defaults"), "--json"],
+    stdout=subprocess.PIPE, text=True, check=False)
+check(len(tb) == 1 and direct.returncode == 0 and
+      tb[0]["filtering_sd_m"] == json.loads(direct.stdout)["filtering_sd_m"] > 0,
+      f"--bound JSON {tb} against full_slam_bound.py's own {direct.stdout}")
+p = run("scenario_table.py", "--seeds", "1", "--sim-set", "duration_s=30", "--bound")
+check(p.returncode == 0 and "| DR ATE m | filtering std. dev. m | SLAM ATE m (defaults) |"
+      in p.stdout, f"--bound table: exit {p.returncode}")
 missing_png = os.path.join(work, "no_such_folder", "table.png")
 p = run("scenario_table.py", "--plot", missing_png)
 check(p.returncode == 2 and missing_png in p.stderr,

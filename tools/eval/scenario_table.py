@@ -4,6 +4,7 @@ estimator configuration, to show what each mechanism does with and without it.
 
   tools/eval/scenario_table.py [--config NAME:key=value,key=value ...] [--default-room]
                                [--seeds 1-10] [--jobs J] [--out DIR] [--json] [--plot PNG]
+                               [--bound]
 
 Each dataset (sparse-poor-odometry, and default-room with --default-room, seeds --seeds) is
 simulated once and replayed with every configuration; keys are cleanslam-replay --set keys
@@ -11,6 +12,8 @@ simulated once and replayed with every configuration; keys are cleanslam-replay 
 configuration, "defaults", with no override. Progress on stderr, the table on stdout. --plot
 draws, per scenario and seed, each configuration's SLAM ATE as a fraction of dead reckoning's
 (against the lines at 1 and 1/2) and its position NEES per degree of freedom (against [0.5, 2]).
+--bound adds, per dataset, full_slam_bound.py's filtering standard deviation (what a causal
+estimator can expect on those data; about 10 s a seed) to the table and the plot.
 Exit status 0 unless a run failed to execute (1) or the arguments are wrong (2).
 """
 
@@ -20,6 +23,7 @@ import os
 import shlex
 import shutil
 import statistics
+import subprocess
 import sys
 import tempfile
 
@@ -74,7 +78,18 @@ def _f(x, fmt):
     return "–" if x is None else format(x, fmt)
 
 
-def markdown(scenario, seeds, configs, results, failures):
+def full_slam_bound(dataset, run):
+    """full_slam_bound.py DATASET RUN --json: its result, or RunError."""
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "full_slam_bound.py")
+    p = subprocess.run([sys.executable, script, dataset, run, "--json"], stdout=subprocess.PIPE,
+                       stderr=subprocess.PIPE, text=True, check=False)
+    if p.returncode != 0:
+        raise mc.RunError(f"full_slam_bound.py {dataset}: exit {p.returncode}: "
+                          f"{p.stderr.strip()[-300:]}")
+    return json.loads(p.stdout)
+
+
+def markdown(scenario, seeds, configs, results, failures, bounds=None):
     names = [n for n, _ in configs]
     lines = [f"### {scenario}", ""]
     for n, sets in configs:
@@ -82,6 +97,8 @@ def markdown(scenario, seeds, configs, results, failures):
                                         "current defaults"))
     lines.append("")
     head = ["seed", "path m", "DR ATE m"]
+    if bounds is not None:
+        head.append("filtering std. dev. m")
     for n in names:
         head += [f"SLAM ATE m ({n})", f"NEES ({n})"]
     lines.append("| " + " | ".join(head) + " |")
@@ -92,11 +109,14 @@ def markdown(scenario, seeds, configs, results, failures):
         ref = next((results.get((scenario, seed, n)) for n in names
                     if (scenario, seed, n) in results), None)
         if (scenario, seed) in failures:
-            lines.append(f"| {seed} | simulation failed | | " + " | ".join([""] * 2 * len(names))
-                         + " |")
+            lines.append(f"| {seed} | simulation failed | | " +
+                         " | ".join([""] * (len(head) - 3)) + " |")
             continue
         row = [str(seed), _f(ref and ref["path_length_m"], ".1f"), _f(ref and ref["dr_ate_m"],
                                                                     ".3f")]
+        if bounds is not None:
+            b = bounds.get((scenario, seed))
+            row.append(_f(b and b["filtering_sd_m"], ".3f"))
         if ref:
             path_all.append(ref["path_length_m"])
             dr_all.append(ref["dr_ate_m"])
@@ -114,6 +134,9 @@ def markdown(scenario, seeds, configs, results, failures):
         lines.append("| " + " | ".join(row) + " |")
     mean = ["mean", _f(statistics.fmean(path_all) if path_all else None, ".1f"),
             _f(statistics.fmean(dr_all) if dr_all else None, ".3f")]
+    if bounds is not None:
+        sds = [b["filtering_sd_m"] for (sc, _), b in bounds.items() if sc == scenario]
+        mean.append(_f(statistics.fmean(sds) if sds else None, ".3f"))
     beats = []
     for n in names:
         ates, nees = columns[n]
@@ -126,11 +149,13 @@ def markdown(scenario, seeds, configs, results, failures):
     lines.append("")
     lines.append("SLAM ATE in bold where it beats dead reckoning; SLAM better than DR: " +
                  ", ".join(beats) + ". NEES: mean position NEES over the run's poses (3 if "
-                 "consistent). ATE RMSE with --align none.")
+                 "consistent). ATE RMSE with --align none." +
+                 (" Filtering std. dev.: full_slam_bound.py's RMS position standard deviation "
+                  "given the data up to each frame." if bounds is not None else ""))
     return "\n".join(lines)
 
 
-def plot(scenarios, seeds, configs, results, path):
+def plot(scenarios, seeds, configs, results, path, bounds=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -154,10 +179,20 @@ def plot(scenarios, seeds, configs, results, path):
                     nees.append(r["nees_mean"] / mc.NEES_DOF)
             ax_ate.bar(xs, ratio, width, label=n)
             ax_nees.bar(xn, nees, width, label=n)
+        if bounds:
+            xb, yb = [], []
+            for j, seed in enumerate(seeds):
+                b = bounds.get((sc, seed))
+                ref = next((results[(sc, seed, n)] for n in names if (sc, seed, n) in results),
+                           None)
+                if b and ref and ref["dr_ate_m"] > 0:
+                    xb.append(j)
+                    yb.append(b["filtering_sd_m"] / ref["dr_ate_m"])
+            ax_ate.plot(xb, yb, "kD", ms=6, label="filtering std. dev. (full SLAM)")
         ax_ate.axhline(1.0, color="k", lw=0.8, label="dead reckoning")
         ax_ate.axhline(0.5, color="r", ls="--", lw=0.8, label="half of dead reckoning")
         ax_ate.set_ylabel("SLAM ATE / DR ATE")
-        ax_ate.set_title(f"{sc}: SLAM ATE as a fraction of dead reckoning's")
+        ax_ate.set_title(f"{sc}: SLAM ATE over DR ATE")
         ax_nees.set_yscale("log")
         ax_nees.yaxis.set_major_locator(LogLocator(base=2))
         ax_nees.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
@@ -165,11 +200,11 @@ def plot(scenarios, seeds, configs, results, path):
         ax_nees.axhline(2.0, color="g", ls="--", lw=1.0)
         ax_nees.axhline(1.0, color="k", ls=":", lw=0.8)
         ax_nees.set_ylabel("mean position NEES per dof")
-        ax_nees.set_title(f"{sc}: NEES per degree of freedom (1 if consistent)")
+        ax_nees.set_title(f"{sc}: position NEES per dof (1 if consistent)")
         for ax in (ax_ate, ax_nees):
             ax.set_xticks(range(len(seeds)), [str(s) for s in seeds])
             ax.set_xlabel("seed")
-            ax.legend(fontsize=8, ncol=4, loc="upper center", bbox_to_anchor=(0.5, -0.14))
+            ax.legend(fontsize=8, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.14))
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -189,6 +224,8 @@ def main(argv=None):
     ap.add_argument("--out", help="keep datasets and runs here (default: temporary)")
     ap.add_argument("--json", action="store_true", help="one JSON object instead of Markdown")
     ap.add_argument("--plot", metavar="PNG", help="write a PNG: ATE against DR's, NEES per dof")
+    ap.add_argument("--bound", action="store_true",
+                    help="full_slam_bound.py's filtering std. dev. per dataset (about 10 s each)")
     ap.add_argument("--bin", default=mc.DEFAULT_BIN)
     ap.add_argument("--emulator", default="", help="command prefix for the programs")
     a = ap.parse_args(argv)
@@ -241,6 +278,13 @@ def main(argv=None):
                                           tools, ds_dir(sc, seed), run_dir, sets, emulator,
                                           log(sc, seed))))
         results, run_failures = mc.run_parallel(a.jobs, run_tasks, "replay")
+        bounds, bound_failures = None, {}
+        if a.bound:
+            first = configs[0][0]
+            bound_tasks = [((sc, seed), lambda sc=sc, seed=seed: full_slam_bound(
+                ds_dir(sc, seed), os.path.join(work, f"{sc}_seed_{seed}", f"run_{first}")))
+                for sc in scenarios for seed in seeds if (sc, seed, first) in results]
+            bounds, bound_failures = mc.run_parallel(a.jobs, bound_tasks, "full_slam_bound")
     finally:
         if not a.out:
             shutil.rmtree(work, ignore_errors=True)
@@ -248,26 +292,30 @@ def main(argv=None):
     plot_failed = False
     if a.plot:
         try:
-            plot(scenarios, seeds, configs, results, a.plot)
+            plot(scenarios, seeds, configs, results, a.plot, bounds)
             print(f"scenario_table: wrote {a.plot}", file=sys.stderr)
         except OSError as e:
             print(f"scenario_table: --plot {a.plot}: {e}", file=sys.stderr)
             plot_failed = True
+    failures = list(sim_failures.items()) + list(run_failures.items()) + \
+        list(bound_failures.items())
     if a.json:
         rows = [{"scenario": k[0], "seed": k[1], "config": k[2]} |
                 {f: v for f, v in r.items() if f not in ("pose_nees_times_s", "pose_nees")}
                 for k, r in sorted(results.items())]
-        json.dump({"configs": dict(configs), "seeds": seeds, "scenarios": scenarios, "rows": rows,
-                   "failures": [{"what": list(k), "error": v} for k, v in
-                                list(sim_failures.items()) + list(run_failures.items())]},
-                  sys.stdout, indent=1)
+        out = {"configs": dict(configs), "seeds": seeds, "scenarios": scenarios, "rows": rows,
+               "failures": [{"what": list(k), "error": v} for k, v in failures]}
+        if bounds is not None:
+            out["bounds"] = [{"scenario": k[0], "seed": k[1]} | b
+                             for k, b in sorted(bounds.items())]
+        json.dump(out, sys.stdout, indent=1)
         print()
     else:
-        print("\n\n".join(markdown(sc, seeds, configs, results, sim_failures)
+        print("\n\n".join(markdown(sc, seeds, configs, results, sim_failures, bounds)
                           for sc in scenarios))
-        for k, v in list(sim_failures.items()) + list(run_failures.items()):
+        for k, v in failures:
             print(f"\nFAILED {' '.join(map(str, k))}: {v}")
-    return 1 if sim_failures or run_failures or plot_failed else 0
+    return 1 if failures or plot_failed else 0
 
 
 if __name__ == "__main__":
