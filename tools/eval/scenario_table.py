@@ -89,6 +89,13 @@ def full_slam_bound(dataset, run):
     return json.loads(p.stdout)
 
 
+def first_run(results, scenario, seed, names):
+    """(name, result) of the first configuration that ran on this dataset, or (None, None). Every
+    configuration's run holds the same dead reckoning."""
+    return next(((n, results[(scenario, seed, n)]) for n in names
+                 if (scenario, seed, n) in results), (None, None))
+
+
 def markdown(scenario, seeds, configs, results, failures, bounds=None):
     names = [n for n, _ in configs]
     lines = [f"### {scenario}", ""]
@@ -106,8 +113,7 @@ def markdown(scenario, seeds, configs, results, failures, bounds=None):
     columns = {n: ([], []) for n in names}
     path_all, dr_all = [], []
     for seed in seeds:
-        ref = next((results.get((scenario, seed, n)) for n in names
-                    if (scenario, seed, n) in results), None)
+        _, ref = first_run(results, scenario, seed, names)
         if (scenario, seed) in failures:
             lines.append(f"| {seed} | simulation failed | | " +
                          " | ".join([""] * (len(head) - 3)) + " |")
@@ -183,8 +189,7 @@ def plot(scenarios, seeds, configs, results, path, bounds=None):
             xb, yb = [], []
             for j, seed in enumerate(seeds):
                 b = bounds.get((sc, seed))
-                ref = next((results[(sc, seed, n)] for n in names if (sc, seed, n) in results),
-                           None)
+                _, ref = first_run(results, sc, seed, names)
                 if b and ref and ref["dr_ate_m"] > 0:
                     xb.append(j)
                     yb.append(b["filtering_sd_m"] / ref["dr_ate_m"])
@@ -280,10 +285,14 @@ def main(argv=None):
         results, run_failures = mc.run_parallel(a.jobs, run_tasks, "replay")
         bounds, bound_failures = None, {}
         if a.bound:
-            first = configs[0][0]
-            bound_tasks = [((sc, seed), lambda sc=sc, seed=seed: full_slam_bound(
-                ds_dir(sc, seed), os.path.join(work, f"{sc}_seed_{seed}", f"run_{first}")))
-                for sc in scenarios for seed in seeds if (sc, seed, first) in results]
+            bound_tasks = []
+            for sc in scenarios:
+                for seed in seeds:
+                    name, _ = first_run(results, sc, seed, names)
+                    if name is not None:
+                        run_dir = os.path.join(work, f"{sc}_seed_{seed}", f"run_{name}")
+                        bound_tasks.append(((sc, seed), lambda sc=sc, seed=seed, run_dir=run_dir:
+                                            full_slam_bound(ds_dir(sc, seed), run_dir)))
             bounds, bound_failures = mc.run_parallel(a.jobs, bound_tasks, "full_slam_bound")
     finally:
         if not a.out:
