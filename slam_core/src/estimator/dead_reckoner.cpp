@@ -36,7 +36,9 @@ Vector6d camera_increment_from_body(const Vector6d& body, const Eigen::Matrix3d&
 }
 
 DeadReckoner::DeadReckoner(const hal::Calibration& calibration, const DeadReckoningConfig& config)
-    : calibration_(calibration), config_(config) {
+    : calibration_(calibration),
+      config_(config),
+      wheel_yaw_(config.wheel_yaw, calibration.gyro.bias_instability, calibration.gyro.bias_walk) {
   const CameraModel camera(calibration.camera);
   R_body_c_ = camera.R_body_c();
   t_body_c_ = camera.t_body_c();
@@ -133,7 +135,7 @@ bool DeadReckoner::standing_still() const {
 }
 
 void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt, bool gyro,
-                        double wheels) {
+                        double wheels, double gyro_weight) {
   Increment& in = inc_;
   const double mid = in.yaw + 0.5 * dyaw;
   const double c = std::cos(mid);
@@ -144,7 +146,8 @@ void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt,
   const Eigen::Vector3d g_yaw(-0.5 * distance * s, 0.5 * distance * c, 1.0);
   if (gyro && !config_.bias_in_state) {
     const double bi = calibration_.gyro.bias_instability;
-    yaw_var += bi * bi * config_.gyro_bias_correlation_time_s * std::abs(dt);
+    yaw_var +=
+        gyro_weight * gyro_weight * bi * bi * config_.gyro_bias_correlation_time_s * std::abs(dt);
   }
   const Eigen::Vector3d g_dist(c, s, 0.0);
   const double k = calibration_.wheels.distance_noise;
@@ -155,10 +158,8 @@ void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt,
   in.d_bias = F * in.d_bias;
   in.d_gyro_scale = F * in.d_gyro_scale;
   if (gyro) {
-    in.d_gyro_scale += dyaw * g_yaw;
-  }
-  if (gyro) {
-    in.d_bias -= dt * g_yaw;
+    in.d_gyro_scale += gyro_weight * dyaw * g_yaw;
+    in.d_bias -= gyro_weight * dt * g_yaw;
   }
   in.x += distance * c;
   in.y += distance * s;
@@ -226,9 +227,34 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
   double live0 = 0.0;
   double live1 = 0.0;
   const bool gyro = gyro_angle(enc_t_, th0, live0) && gyro_angle(s.t_ns, th1, live1);
-  const double dyaw = gyro ? th1 - th0 : dyaw_enc;
+  double dyaw = gyro ? th1 - th0 : dyaw_enc;
   if (!gyro) {
     ++counters_.steps_without_gyro;
+  }
+  // With wheel_yaw fusion the interval's heading change is the fused one: the difference to the
+  // gyro's goes into the segment below as well, with the fused variance and gyro weight.
+  double fused_correction = 0.0;
+  double fused_var = -1.0;
+  double gyro_weight = 1.0;
+  if (gyro && config_.wheel_yaw.enabled && !heading_held()) {
+    const double nd = calibration_.gyro.noise_density;
+    const double q_left = 1.0 / w.ticks_per_meter_left;
+    const double q_right = 1.0 / w.ticks_per_meter_right;
+    const double k = w.distance_noise;
+    WheelYawFusion::Reading r;
+    r.gyro_yaw = dyaw;
+    r.gyro_var = nd * nd * (live1 - live0);
+    r.wheel_yaw = dyaw_enc;
+    // Relative noise per wheel and the ticks' quantization (uniform, one tick wide).
+    r.wheel_var = (k * k * (dl * dl + dr * dr) + (q_left * q_left + q_right * q_right) / 12.0) /
+                  (w.wheel_base * w.wheel_base);
+    r.distance = d;
+    r.dt = live1 - live0;
+    const WheelYawFusion::Fused f = wheel_yaw_.fuse(r);
+    fused_correction = f.yaw - dyaw;
+    fused_var = f.variance;
+    gyro_weight = f.gyro_weight;
+    dyaw = f.yaw;
   }
   const double mid = yaw_ + 0.5 * dyaw;
   x_ += d * std::cos(mid);
@@ -239,6 +265,7 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     // A take already extrapolated past this sample.
     pending_distance_ -= d;
     pending_yaw_ -= dyaw_enc;
+    pending_fused_correction_ += fused_correction;
   } else {
     const double seg_d = d - pending_distance_;
     double seg_yaw = dyaw_enc - pending_yaw_;
@@ -248,6 +275,7 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     double lives = 0.0;
     const bool seg_gyro = gyro && gyro_angle(seg_t_, ths, lives);
     double seg_dt = seconds(s.t_ns - seg_t_);
+    double seg_weight = 1.0;
     if (seg_gyro) {
       seg_yaw = th1 - ths;
       if (config_.hold_heading_when_still) {
@@ -255,8 +283,17 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
       }
       const double nd = calibration_.gyro.noise_density;
       yaw_var = nd * nd * seg_dt;
+      if (fused_var >= 0.0) {
+        // A take inside the interval integrated its first part from the gyro alone.
+        const double interval = live1 - live0;
+        const double part = interval > 0.0 ? std::clamp((live1 - lives) / interval, 0.0, 1.0) : 1.0;
+        seg_yaw += fused_correction + pending_fused_correction_;
+        pending_fused_correction_ = 0.0;
+        yaw_var = fused_var * part;
+        seg_weight = gyro_weight;
+      }
     }
-    step(seg_d, seg_yaw, yaw_var, seg_dt, seg_gyro, std::abs(dl) + std::abs(dr));
+    step(seg_d, seg_yaw, yaw_var, seg_dt, seg_gyro, std::abs(dl) + std::abs(dr), seg_weight);
     seg_t_ = s.t_ns;
     pending_distance_ = 0.0;
     pending_yaw_ = 0.0;
@@ -299,7 +336,7 @@ OdometryIncrement DeadReckoner::take_increment(hal::TimeNs t_ns) {
         const double nd = calibration_.gyro.noise_density;
         yaw_var = nd * nd * std::abs(dt);
       }
-      step(d, dyaw, yaw_var, dt, gyro, 2.0 * std::abs(d));
+      step(d, dyaw, yaw_var, dt, gyro, 2.0 * std::abs(d), 1.0);
       pending_distance_ = target_distance;
       pending_yaw_ = target_yaw;
       seg_t_ = target;

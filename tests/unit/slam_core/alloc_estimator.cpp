@@ -311,3 +311,20 @@ TEST(EstimatorAllocation, DeadReckonerLongRunAllocatesNothing) {
   EXPECT_EQ(run.allocations, 0U);
   EXPECT_NEAR(run.distance, 59.503 * 0.2, 1e-3);  // up to the last take
 }
+
+TEST(EstimatorAllocation, DeadReckonerWithWheelYawFusionAllocatesNothing) {
+  const hal::Calibration calibration;
+  cs::DeadReckoningConfig config;
+  config.wheel_yaw.enabled = true;
+  cs::DeadReckoner dr(calibration, config);
+  DeadReckonerRun run;
+  run.dr = &dr;
+  run_with_small_stack(run);
+  EXPECT_EQ(run.allocations, 0U);
+  // The run's wheels go straight while its gyro turns at times: both learning and taking windows
+  // back to the gyro happen.
+  const cs::WheelYawCounters& k = dr.wheel_yaw_fusion().counters();
+  EXPECT_GT(k.windows_used, 5U);
+  EXPECT_GT(k.windows_gated + k.intervals_gated, 5U);
+  EXPECT_NEAR(run.distance, 59.503 * 0.2, 1e-3);
+}

@@ -10,6 +10,7 @@
 #include "cleanslam/hal/time.hpp"
 #include "cleanslam/slam_core/geometry.hpp"
 #include "cleanslam/slam_core/odometry_increment.hpp"
+#include "cleanslam/slam_core/wheel_yaw_fusion.hpp"
 
 // The prediction input (Section 2.3): distance from the differential-drive encoders, heading
 // change from the yaw gyro (encoders alone when the gyro is silent), turned into the increment of
@@ -61,6 +62,8 @@ struct DeadReckoningConfig {
   bool hold_heading_when_still = false;
   // Relative gyro scale error, one value within an increment (like the distance scale).
   double gyro_scale_error = 0.0;
+  // The heading from the gyro and the wheels together (wheel_yaw_fusion.hpp); off: the gyro's.
+  WheelYawFusionConfig wheel_yaw;
 };
 
 // u = (dx_c, dpsi_c) of a body increment (dx, dy, dz, droll, dpitch, dyaw), expressed in the
@@ -107,6 +110,7 @@ class DeadReckoner {
   [[nodiscard]] hal::TimeNs last_encoder_time() const { return enc_t_; }
 
   [[nodiscard]] const DeadReckonerCounters& counters() const { return counters_; }
+  [[nodiscard]] const WheelYawFusion& wheel_yaw_fusion() const { return wheel_yaw_; }
 
  private:
   struct Knot {
@@ -130,7 +134,9 @@ class DeadReckoner {
   // Heading integral at t and the integrated (not held) time; false when the gyro does not cover t.
   bool gyro_angle(hal::TimeNs t, double& theta, double& live) const;
   [[nodiscard]] bool heading_held() const;
-  void step(double distance, double dyaw, double yaw_var, double dt, bool gyro, double wheels);
+  // gyro_weight: d dyaw / d (the gyro's reading), 1 without wheel_yaw fusion.
+  void step(double distance, double dyaw, double yaw_var, double dt, bool gyro, double wheels,
+            double gyro_weight);
   OdometryIncrement camera_increment(const Increment& inc, double dt_s) const;
 
   hal::Calibration calibration_;
@@ -160,6 +166,8 @@ class DeadReckoner {
   bool have_take_ = false;
   double pending_distance_ = 0.0;
   double pending_yaw_ = 0.0;
+  // wheel_yaw fusion's correction of intervals that a take had already integrated from the gyro.
+  double pending_fused_correction_ = 0.0;
 
   double x_ = 0.0;
   double y_ = 0.0;
@@ -172,6 +180,7 @@ class DeadReckoner {
   bool have_gyro_ = false;
   hal::TimeNs gyro_t_ = 0;
 
+  WheelYawFusion wheel_yaw_;
   DeadReckonerCounters counters_;
 };
 
