@@ -139,6 +139,15 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.gyro_errors_from_calibration =
         f.flag("gyro_errors_from_calibration", x.gyro_errors_from_calibration);
     x.hold_heading_when_still = f.flag("hold_heading_when_still", x.hold_heading_when_still);
+    x.wheel_yaw_fusion = f.flag("wheel_yaw_fusion", x.wheel_yaw_fusion);
+    x.wheel_yaw_window_intervals =
+        f.integer("wheel_yaw_window_intervals", x.wheel_yaw_window_intervals, 1, 100000);
+    x.wheel_yaw_gate_chi2 = f.number("wheel_yaw_gate_chi2", x.wheel_yaw_gate_chi2, 0.0, 1e6, true);
+    x.wheel_yaw_scale_std = f.number("wheel_yaw_scale_std", x.wheel_yaw_scale_std, 0.0, 10.0);
+    x.wheel_yaw_drift_std_rad_per_m =
+        f.number("wheel_yaw_drift_std_rad_per_m", x.wheel_yaw_drift_std_rad_per_m, 0.0, 100.0);
+    x.wheel_yaw_correlation_time_s =
+        f.number("wheel_yaw_correlation_time_s", x.wheel_yaw_correlation_time_s, 0.0, 1e5);
     x.reinit_behind_camera = f.flag("reinit_behind_camera", x.reinit_behind_camera);
     x.remap_pixel_std_px = f.number("remap_pixel_std_px", x.remap_pixel_std_px, 0.0, 1e4);
     x.remap_min_yaw_std_deg =
@@ -393,6 +402,12 @@ std::string config_text(const FirmwareConfig& c) {
     << "  gyro_errors_from_calibration: " << (f.gyro_errors_from_calibration ? "true" : "false")
     << "\n"
     << "  hold_heading_when_still: " << (f.hold_heading_when_still ? "true" : "false") << "\n"
+    << "  wheel_yaw_fusion: " << (f.wheel_yaw_fusion ? "true" : "false") << "\n"
+    << "  wheel_yaw_window_intervals: " << f.wheel_yaw_window_intervals << "\n"
+    << "  wheel_yaw_gate_chi2: " << fmt(f.wheel_yaw_gate_chi2) << "\n"
+    << "  wheel_yaw_scale_std: " << fmt(f.wheel_yaw_scale_std) << "\n"
+    << "  wheel_yaw_drift_std_rad_per_m: " << fmt(f.wheel_yaw_drift_std_rad_per_m) << "\n"
+    << "  wheel_yaw_correlation_time_s: " << fmt(f.wheel_yaw_correlation_time_s) << "\n"
     << "  reinit_behind_camera: " << (f.reinit_behind_camera ? "true" : "false") << "\n"
     << "  remap_pixel_std_px: " << fmt(f.remap_pixel_std_px) << "\n"
     << "  remap_min_yaw_std_deg: " << fmt(f.remap_min_yaw_std_deg) << "\n"

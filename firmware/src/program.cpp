@@ -368,6 +368,18 @@ void print_summary(const Loop& loop, std::FILE* out) {
       static_cast<unsigned long long>(m.initialized), static_cast<unsigned long long>(m.replaced),
       static_cast<unsigned long long>(m.deleted), static_cast<unsigned long long>(m.merged),
       static_cast<unsigned long long>(m.merges_gated));
+  WheelYawReport w;
+  if (loop.estimator().wheel_yaw(w)) {
+    std::fprintf(out,
+                 "cleanslam: wheel heading: scale %+.4f (std. dev. %.4f), drift %+.4f rad/m (std. "
+                 "dev. %.4f), gyro bias %+.5f rad/s; %llu intervals fused, %llu gated, %llu "
+                 "windows learnt, %llu taken back to the gyro\n",
+                 w.scale, w.scale_std, w.drift_rad_per_m, w.drift_std, w.gyro_bias_rad_s,
+                 static_cast<unsigned long long>(w.intervals_fused),
+                 static_cast<unsigned long long>(w.intervals_gated),
+                 static_cast<unsigned long long>(w.windows_used),
+                 static_cast<unsigned long long>(w.windows_gated));
+  }
   for (std::size_t i = 0; i < kRejectCount; ++i) {
     if (s.rejects.n[i] > 0) {
       std::fprintf(out, "cleanslam: rejected %s: %llu\n", to_string(static_cast<Reject>(i)),

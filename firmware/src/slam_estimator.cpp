@@ -57,6 +57,12 @@ slam_core::DeadReckoningConfig dead_reckoning_config(const FirmwareConfig& c) {
   d.bias_in_state = c.filter.gyro_bias_state;
   d.scale_in_state = c.filter.distance_scale_state;
   d.hold_heading_when_still = c.filter.hold_heading_when_still;
+  d.wheel_yaw.enabled = c.filter.wheel_yaw_fusion;
+  d.wheel_yaw.window_intervals = c.filter.wheel_yaw_window_intervals;
+  d.wheel_yaw.gate_chi2 = c.filter.wheel_yaw_gate_chi2;
+  d.wheel_yaw.scale_std = c.filter.wheel_yaw_scale_std;
+  d.wheel_yaw.drift_std_rad_per_m = c.filter.wheel_yaw_drift_std_rad_per_m;
+  d.wheel_yaw.calibration_correlation_time_s = c.filter.wheel_yaw_correlation_time_s;
   return d;
 }
 
@@ -457,6 +463,26 @@ MapCounters SlamEstimator::map_counters() const {
   m.merged = c.landmarks_merged;
   m.merges_gated = c.merges_gated;
   return m;
+}
+
+bool SlamEstimator::wheel_yaw(WheelYawReport& out) const {
+  if (!config_.filter.wheel_yaw_fusion) {
+    return false;
+  }
+  const slam_core::WheelYawFusion& f = dr_.wheel_yaw_fusion();
+  const Eigen::Vector3d& p = f.calibration();
+  const Eigen::Matrix3d& P = f.calibration_covariance();
+  out.gyro_bias_rad_s = p(0);
+  out.scale = p(1);
+  out.scale_std = std::sqrt(std::max(0.0, P(1, 1)));
+  out.drift_rad_per_m = p(2);
+  out.drift_std = std::sqrt(std::max(0.0, P(2, 2)));
+  const slam_core::WheelYawCounters& k = f.counters();
+  out.intervals_fused = k.intervals_fused;
+  out.intervals_gated = k.intervals_gated;
+  out.windows_used = k.windows_used;
+  out.windows_gated = k.windows_gated;
+  return true;
 }
 
 int SlamEstimator::landmarks(LandmarkEstimate* out, int max) const {

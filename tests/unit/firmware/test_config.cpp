@@ -213,5 +213,31 @@ TEST(Config, GyroErrorsFromCalibrationKeysParseAndAreRangeChecked) {
   EXPECT_NE(all.find("h.yaml:5: filter.gyro_errors_from_calibration"), std::string::npos) << all;
 }
 
+TEST(Config, WheelYawFusionKeysParseAndAreRangeChecked) {
+  EXPECT_TRUE(FirmwareConfig{}.filter.wheel_yaw_fusion);
+  const ConfigResult r = parse_config(
+      "filter:\n  wheel_yaw_fusion: false\n  wheel_yaw_window_intervals: 20\n"
+      "  wheel_yaw_gate_chi2: 9\n  wheel_yaw_scale_std: 0.1\n"
+      "  wheel_yaw_drift_std_rad_per_m: 0.3\n  wheel_yaw_correlation_time_s: 100\n",
+      "w.yaml", {});
+  ASSERT_TRUE(r.ok()) << joined(r.errors);
+  const firmware::FilterSettings& f = r.config.filter;
+  EXPECT_FALSE(f.wheel_yaw_fusion);
+  EXPECT_EQ(f.wheel_yaw_window_intervals, 20);
+  EXPECT_EQ(f.wheel_yaw_gate_chi2, 9.0);
+  EXPECT_EQ(f.wheel_yaw_scale_std, 0.1);
+  EXPECT_EQ(f.wheel_yaw_drift_std_rad_per_m, 0.3);
+  EXPECT_EQ(f.wheel_yaw_correlation_time_s, 100.0);
+  const ConfigResult bad = parse_config(
+      "filter:\n  wheel_yaw_window_intervals: 0\n  wheel_yaw_gate_chi2: 0\n"
+      "  wheel_yaw_correlation_time_s: -1\n",
+      "x.yaml", {});
+  ASSERT_EQ(bad.errors.size(), 3U) << joined(bad.errors);
+  const std::string all = joined(bad.errors);
+  EXPECT_NE(all.find("x.yaml:2: filter.wheel_yaw_window_intervals"), std::string::npos) << all;
+  EXPECT_NE(all.find("x.yaml:3: filter.wheel_yaw_gate_chi2"), std::string::npos) << all;
+  EXPECT_NE(all.find("x.yaml:4: filter.wheel_yaw_correlation_time_s"), std::string::npos) << all;
+}
+
 }  // namespace
 }  // namespace cleanslam

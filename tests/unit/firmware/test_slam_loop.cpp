@@ -172,6 +172,15 @@ TEST(SlamLoop, SummaryCountsTheMapsChanges) {
                            std::to_string(c.landmarks_merged) + " merged, " +
                            std::to_string(c.merges_gated) + " merges gated\n";
   EXPECT_NE(text.find(line), std::string::npos) << text;
+  // The heading fusion's calibration (on by default), with the fusion's own counts.
+  const auto& w = estimator.dead_reckoner().wheel_yaw_fusion().counters();
+  ASSERT_GT(w.windows_used, 10U);
+  const std::string fused = std::to_string(w.intervals_fused) + " intervals fused, " +
+                            std::to_string(w.intervals_gated) + " gated, " +
+                            std::to_string(w.windows_used) + " windows learnt, " +
+                            std::to_string(w.windows_gated) + " taken back to the gyro\n";
+  EXPECT_NE(text.find("cleanslam: wheel heading: scale "), std::string::npos) << text;
+  EXPECT_NE(text.find(fused), std::string::npos) << text;
 }
 
 // The estimator on the loop is deterministic: two runs, the same poses bit for bit.

@@ -42,6 +42,14 @@ struct FilterSettings {
   bool gyro_errors_from_calibration = false;
   // Heading held while the wheels stand still (slam_core::DeadReckoningConfig).
   bool hold_heading_when_still = true;
+  // Heading from the gyro and the wheels together, the wheels' heading scale and drift per metre
+  // learnt against the gyro (slam_core::WheelYawFusionConfig).
+  bool wheel_yaw_fusion = true;
+  int wheel_yaw_window_intervals = 40;
+  double wheel_yaw_gate_chi2 = 16.0;
+  double wheel_yaw_scale_std = 0.2;
+  double wheel_yaw_drift_std_rad_per_m = 0.5;
+  double wheel_yaw_correlation_time_s = 50.0;
   // A tracked feature whose landmark is predicted behind the camera re-initializes the landmark.
   bool reinit_behind_camera = false;
   // Re-sighting with the pose lost (yaw std. dev. above remap_min_yaw_std_deg): a tracked landmark

@@ -25,6 +25,19 @@ struct MapCounters {
   std::uint64_t merges_gated = 0;
 };
 
+// The wheel heading fusion's calibration at the end of a run (filter.wheel_yaw_fusion).
+struct WheelYawReport {
+  double scale = 0.0;  // s: theta = (1 + s) w - c d
+  double scale_std = 0.0;
+  double drift_rad_per_m = 0.0;  // c
+  double drift_std = 0.0;
+  double gyro_bias_rad_s = 0.0;  // left after the dead reckoner's standstill estimate
+  std::uint64_t intervals_fused = 0;
+  std::uint64_t intervals_gated = 0;
+  std::uint64_t windows_used = 0;
+  std::uint64_t windows_gated = 0;
+};
+
 // What the loop drives: dead reckoning, the EKF and the frame pipeline. The loop validates the
 // inputs first (finite, in order); an estimator sees only accepted samples.
 class Estimator {
@@ -53,6 +66,8 @@ class Estimator {
   // The map: fills at most `max` landmarks, returns how many.
   virtual int landmarks(LandmarkEstimate* out, int max) const = 0;
   [[nodiscard]] virtual MapCounters map_counters() const { return {}; }
+  // False when the heading does not fuse the wheels.
+  virtual bool wheel_yaw(WheelYawReport& /*out*/) const { return false; }
 };
 
 }  // namespace cleanslam::firmware

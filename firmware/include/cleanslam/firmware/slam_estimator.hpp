@@ -47,8 +47,10 @@ class SlamEstimator final : public Estimator {
   [[nodiscard]] hal::PoseEstimate dead_reckoning_pose(hal::TimeNs t_ns) const override;
   int landmarks(LandmarkEstimate* out, int max) const override;
   [[nodiscard]] MapCounters map_counters() const override;
+  bool wheel_yaw(WheelYawReport& out) const override;
 
   [[nodiscard]] const slam_core::Ekf& ekf() const { return ekf_; }
+  [[nodiscard]] const slam_core::DeadReckoner& dead_reckoner() const { return dr_; }
   [[nodiscard]] std::uint64_t image_frames() const { return image_frames_; }
   [[nodiscard]] const slam_core::frontend::FramePipeline& pipeline() const { return *pipeline_; }
 
