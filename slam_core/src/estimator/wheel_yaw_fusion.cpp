@@ -82,9 +82,13 @@ WheelYawFusion::Fused WheelYawFusion::fuse(const Reading& r) {
   return out;
 }
 
-double WheelYawFusion::window_test_ratio() const {
+double WheelYawFusion::window_variance(const Eigen::Vector3d& PH) const {
   const double s = p_(1);
-  const double S = sum_h_.dot(P_ * sum_h_) + sum_gyro_var_ + (1.0 + s) * (1.0 + s) * sum_wheel_var_;
+  return sum_h_.dot(PH) + sum_gyro_var_ + (1.0 + s) * (1.0 + s) * sum_wheel_var_;
+}
+
+double WheelYawFusion::window_test_ratio() const {
+  const double S = window_variance(P_ * sum_h_);
   const double nu = sum_mismatch_ - sum_h_.dot(p_);
   return S > 0.0 ? nu * nu / S : 0.0;
 }
@@ -101,9 +105,8 @@ void WheelYawFusion::reset_window() {
 
 void WheelYawFusion::close_window() {
   P_(0, 0) += bias_walk_ * bias_walk_ * sum_h_(0);
-  const double s = p_(1);
   const Eigen::Vector3d PH = P_ * sum_h_;
-  const double S = sum_h_.dot(PH) + sum_gyro_var_ + (1.0 + s) * (1.0 + s) * sum_wheel_var_;
+  const double S = window_variance(PH);
   if (S > 0.0) {
     const Eigen::Vector3d K = PH / S;
     p_ += K * (sum_mismatch_ - sum_h_.dot(p_));

@@ -73,6 +73,8 @@ class WheelYawFusion {
   [[nodiscard]] const WheelYawCounters& counters() const { return counters_; }
 
  private:
+  // The open window's mismatch variance, given P_ times its regressor.
+  [[nodiscard]] double window_variance(const Eigen::Vector3d& PH) const;
   [[nodiscard]] double window_test_ratio() const;
   void reset_window();
   void close_window();
