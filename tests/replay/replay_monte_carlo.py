@@ -139,6 +139,16 @@ for seed in ("1", "2", "mean"):
     check(re.search(rf"^\| {seed} \|( [^|]+ \|){{6}}$", p.stdout, re.M) is not None,
           f"table row {seed}")
 check("`frontend.min_inliers=1`, `filter.eps_ct_m=100`" in p.stdout, "config listed")
+# Configurations whose dead reckonings differ (the heading fusion is part of it) get a DR column
+# each, and each is compared with its own.
+p = run("scenario_table.py", "--seeds", "1", "--sim-set", "duration_s=60", "--config",
+        "fused", "--config", "gyro:filter.wheel_yaw_fusion=false", "--out", table_out)
+check(p.returncode == 0 and "| seed | path m | DR ATE m (fused) | SLAM ATE m (fused) | "
+      "NEES (fused) | DR ATE m (gyro) | SLAM ATE m (gyro) | NEES (gyro) |" in p.stdout,
+      f"table with dead reckonings of their own: exit {p.returncode}\n{p.stdout}")
+row = re.search(r"^\| 1 \| [^|]+ \| ([0-9.]+) \| [^|]+ \| [^|]+ \| ([0-9.]+) \|", p.stdout, re.M)
+check(row is not None and row.group(1) != row.group(2),
+      f"the two dead reckonings are the same: {row and row.groups()}")
 p = run("scenario_table.py", "--seeds", "1", "--sim-set", "duration_s=30", "--config",
         "x:frontend.no_such=1")
 check(p.returncode == 1 and "FAILED" in p.stdout, f"table bad key: exit {p.returncode}")
@@ -154,7 +164,8 @@ tb = json.loads(p.stdout)["bounds"] if p.returncode == 0 else []
 direct = subprocess.run(
     [sys.executable, os.path.join(EVAL, "full_slam_bound.py"),
      os.path.join(bound_out, "sparse-poor-odometry_seed_1", "dataset"),
-     os.path.join(bound_out, "sparse-poor-odometry_seed_1", "run_defaults"), "--json"],
+     os.path.join(bound_out, "sparse-poor-odometry_seed_1", "run_defaults"), "--json",
+     "--wheel-heading"],
     stdout=subprocess.PIPE, text=True, check=False)
 check(len(tb) == 1 and direct.returncode == 0 and
       tb[0]["filtering_sd_m"] == json.loads(direct.stdout)["filtering_sd_m"] > 0,
@@ -317,6 +328,35 @@ sv = full_slam_bound.smoothing_variances(fs)
 check(len(fv) == len(sv) == fs.n - 1 and abs(fv[-1] - sv[-1]) <= 1e-6 * sv[-1] and
       bool(np.all(fv >= sv * (1 - 1e-6))),
       f"filtering variances {fv[-3:]} against smoothing {sv[-3:]}")
+
+# --wheel-heading: the wheels' turn as a second heading measurement, with the wheels' heading scale
+# and drift as two more unknowns. Its gradient (along them too) is the numerical one, the two
+# variances stay ordered, and more data leave no frame less known than without it.
+fw, _ = full_slam_bound.problem(ds, "dr", wheel=True)
+check(len(fw.x) == len(fs.x) + 2, f"--wheel-heading: {len(fw.x)} unknowns against {len(fs.x)} + 2")
+fw.x[-2:] = (0.03, -0.02)
+_, _, grad = fw.cost(fw.x, True)
+for name, sel in (("the wheel calibration", slice(len(fw.x) - 2, len(fw.x))),
+                  ("all", slice(0, len(fw.x)))):
+    v = np.zeros(len(fw.x))
+    v[sel] = rng.normal(0.0, 1.0, v[sel].shape)
+    v /= np.linalg.norm(v)
+    eps = 1e-6
+    numeric = (fw.cost(fw.x + eps * v)[0] - fw.cost(fw.x - eps * v)[0]) / (2 * eps)
+    analytic = 2.0 * float(grad @ v)
+    check(abs(numeric - analytic) <= 1e-4 * abs(analytic) + 1e-3,
+          f"--wheel-heading gradient along {name}: analytic {analytic}, numeric {numeric}")
+fw.x[-2:] = 0.0
+fwv = full_slam_bound.filtering_variances(fw)
+swv = full_slam_bound.smoothing_variances(fw)
+check(bool(np.all(fwv >= swv * (1 - 1e-6))) and bool(np.all(fwv <= fv * (1 + 1e-6))) and
+      bool(np.all(swv <= sv * (1 + 1e-6))) and float(np.mean(fwv)) < float(np.mean(fv)),
+      f"--wheel-heading variances: filtering {fwv[-3:]} (without {fv[-3:]}), smoothing "
+      f"{swv[-3:]} (without {sv[-3:]})")
+p = full_slam(ds, "--json", "--wheel-heading")
+f_wheel = json.loads(p.stdout) if p.returncode == 0 else {}
+check(0.0 < f_wheel.get("filtering_sd_m", 0.0) <= f_truth.get("filtering_sd_m", 0.0),
+      f"--wheel-heading filtering std. dev. {f_wheel} above the gyro's {f_truth}")
 
 shutil.rmtree(shifted)
 shutil.copytree(ds, shifted)

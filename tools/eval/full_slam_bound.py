@@ -3,7 +3,7 @@
 (full SLAM), started from the ground truth, as a reference for a SLAM run's ATE.
 
   tools/eval/full_slam_bound.py DATASET RUN [--start truth|dr] [--iterations N] [--out FILE.tum]
-                                [--json]
+                                [--wheel-heading] [--json]
 
 DATASET is a simulated dataset folder (groundtruth.csv, encoders.csv, gyro.csv, features.csv,
 sensors.yaml and sim_landmarks.csv, whose ids are the features' track ids); RUN holds
@@ -20,6 +20,11 @@ non-causal and knowing the basin, it is what an estimator that builds its own ma
 best, where known_map_bound.py gives the map for free. --start dr starts it from dead reckoning
 instead (landmarks triangulated from their rays): how far a local solver gets without knowing the
 basin. It shares no code with the estimator; it takes a pinhole camera (no distortion).
+--wheel-heading adds the wheels' turn between frames, w = (d_right - d_left) / wheel_base, as a
+second measurement of the heading change, theta = (1 + s) w - c d with the wheels' heading scale s
+and drift per metre c as two more unknowns (priors 0.2 and 0.5 rad/m), its noise distance_noise
+per wheel and encoder interval: the bound for an estimator that fuses the wheels' heading
+(cleanslam's filter.wheel_yaw_fusion).
 
 Prints the dead reckoner's ATE and the smoothed trajectory's, both relative to the first frame (as
 cleanslam-eval --align none), at the frames with features, and two RMS position standard
@@ -47,6 +52,8 @@ HUBER = 2.0  # standard deviations
 BEHIND_COST = 4.0 * HUBER * HUBER  # an observation predicted behind the camera
 STILL_MIN_S = 0.5  # standing still this long measures the gyro bias
 LANDMARK_PRIOR_M = 10.0  # keeps a landmark seen from one place solvable; negligible otherwise
+WHEEL_SCALE_SD = 0.2  # --wheel-heading: priors of the wheels' heading scale and drift per metre
+WHEEL_DRIFT_SD = 0.5
 DR_DEPTH_M = 1.5  # --start dr: a landmark not triangulated starts this far along its first ray
 
 
@@ -55,24 +62,38 @@ def wrap(a):
 
 
 class Odometry(kmb.Odometry):
-    """known_map_bound's encoders and gyro, walked between any two times."""
+    """known_map_bound's encoders and gyro, walked between any two times, and the wheels' turn and
+    its variance per encoder interval."""
+
+    def __init__(self, dataset, sen):
+        super().__init__(dataset, sen)
+        ticks = self.enc[:, 1:3].astype(np.int64)
+        d = (np.diff(ticks, axis=0) + 2**31) % 2**32 - 2**31
+        left, right = d[:, 0] / sen.tpm_l, d[:, 1] / sen.tpm_r
+        base = sen.wheel_base if sen.wheel_base > 0.0 else 1.0
+        self.wheel_turn = np.concatenate([[0.0], (right - left) / base])
+        self.wheel_var = np.concatenate(
+            [[0.0], sen.distance_noise**2 * (left**2 + right**2) / base**2])
 
     def steps(self, t0, t1):
-        """(distance, turn, dt, still) per encoder interval or part of one, from t0 to t1 (ns)."""
+        """(distance, turn, dt, still, wheel turn, its variance) per encoder interval or part of
+        one, from t0 to t1 (ns)."""
         k = int(np.searchsorted(self.t, t0, side="right"))
         a = t0
         while a < t1 and k < len(self.t):
             b = min(t1, self.t[k])
             span = self.t[k] - self.t[k - 1]
             frac = (b - a) / span if span > 0 else 0.0
-            yield self.dist[k] * frac, self.turn(a, b), (b - a) * 1e-9, bool(self.still[k])
+            yield (self.dist[k] * frac, self.turn(a, b), (b - a) * 1e-9, bool(self.still[k]),
+                   self.wheel_turn[k] * frac, self.wheel_var[k] * frac)
             a = b
             k += 1
 
 
 class Motion:
     """Planar motion between two frames in the first one's body frame, its covariance, its
-    derivative with respect to a constant gyro bias, and the gyro's mean rate while still."""
+    derivative with respect to a constant gyro bias, the gyro's mean rate while still, and the
+    wheels' turn, distance and the turn's variance while moving."""
 
     def __init__(self, odo, sen, t0, t1):
         p = np.zeros(2)
@@ -82,7 +103,8 @@ class Motion:
         cov = np.zeros((3, 3))
         still_turn = 0.0
         self.still_s = 0.0
-        for d, turn, dt, still in odo.steps(t0, t1):
+        self.wheel = np.zeros(3)  # turn, distance, the turn's variance
+        for d, turn, dt, still, wturn, wvar in odo.steps(t0, t1):
             if still:
                 still_turn += turn
                 self.still_s += dt
@@ -101,6 +123,7 @@ class Motion:
             p += d * np.array([c, s])
             th += turn
             moving += dt
+            self.wheel += (wturn, d, wvar)
         jb[2] = -moving
         self.delta = np.array([p[0], p[1], th])
         self.jb = jb
@@ -163,9 +186,10 @@ def frames_of(feats, t_lo, t_hi):
 
 
 class FullSlam:
-    """Keyframe i's unknowns are x, y, yaw, bias at 4i..4i+3; landmarks follow, 3 each."""
+    """Keyframe i's unknowns are x, y, yaw, bias at 4i..4i+3; landmarks follow, 3 each; with the
+    wheels' heading, their heading scale and drift per metre last."""
 
-    def __init__(self, sen, odo, frames, truth, landmarks, start_t, start="truth"):
+    def __init__(self, sen, odo, frames, truth, landmarks, start_t, start="truth", wheel=False):
         self.sen = sen
         self.times = [start_t] + [t for t, _ in frames]
         self.motions = [Motion(odo, sen, a, b) for a, b in zip(self.times[:-1], self.times[1:])]
@@ -196,6 +220,12 @@ class FullSlam:
             start_lm = {tid: triangulate(r) for tid, r in rays.items()}
         self.x = np.concatenate([self.x, np.concatenate([start_lm[t] for t in ids]) if ids else []])
         self.lm_prior = self.x[4 * n:].copy()
+        self.wheel_col = len(self.x) if wheel else None
+        if wheel:
+            if sen.wheel_base <= 0.0:
+                raise ValueError("sensors.yaml: 'wheel_base' must be a positive number for "
+                                 "--wheel-heading")
+            self.x = np.concatenate([self.x, [0.0, 0.0]])
         self.n = n
         kept = [o for o in obs if o[1] in col]
         self.obs_kf = np.array([o[0] for o in kept], dtype=int)
@@ -253,9 +283,31 @@ class FullSlam:
             k = len(self.ids)
             cols = 4 * n + 3 * np.arange(k)[:, None] + np.arange(3)
             out.append(([cols], [np.broadcast_to(np.eye(3), (k, 3, 3))],
-                        (x[4 * n:] - self.lm_prior).reshape(k, 3),
+                        (x[4 * n:4 * n + 3 * k] - self.lm_prior).reshape(k, 3),
                         np.broadcast_to(np.eye(3) / LANDMARK_PRIOR_M**2, (k, 3, 3))))
+        if self.wheel_col is not None:
+            out.extend(self.wheel_blocks(pose, x))
         return out, extra
+
+    def wheel_blocks(self, pose, x):
+        """The wheels' turn between frames, theta = (1 + s) w - c d, and the priors of s and c."""
+        wc = self.wheel_col
+        s_, c_ = x[wc], x[wc + 1]
+        prior = ([np.array([[wc, wc + 1]])], [np.eye(2)[None]], x[None, wc:wc + 2],
+                 np.diag([1.0 / WHEEL_SCALE_SD**2, 1.0 / WHEEL_DRIFT_SD**2])[None])
+        moving = [q for q, mo in enumerate(self.motions) if mo.wheel[2] > 0.0]
+        if not moving:
+            return [prior]
+        q = np.array(moving, dtype=int)
+        wheel = np.array([self.motions[k].wheel for k in moving])
+        i, j = q, q + 1
+        r = wrap(pose[j, 2] - pose[i, 2] - (1.0 + s_) * wheel[:, 0] + c_ * wheel[:, 1])
+        m = len(q)
+        one = np.ones((m, 1, 1))
+        return [prior,
+                ([4 * i[:, None] + 2, 4 * j[:, None] + 2, np.broadcast_to([wc, wc + 1], (m, 2))],
+                 [-one, one, np.stack([-wheel[:, 0], wheel[:, 1]], 1)[:, None, :]], r[:, None],
+                 (1.0 / wheel[:, 2])[:, None, None])]
 
     def pixel_block(self, pose, x):
         cam = self.sen.cam
@@ -413,7 +465,7 @@ def rms_sd(variances):
     return math.sqrt(max(float(np.mean(variances)), 0.0)) if len(variances) else 0.0
 
 
-def problem(dataset, start="truth"):
+def problem(dataset, start="truth", wheel=False):
     """The dataset's full-SLAM problem, unsolved, started from the truth or from dead reckoning,
     and the true landmarks by track id."""
     sen = kmb.Sensors(dataset)
@@ -428,21 +480,21 @@ def problem(dataset, start="truth"):
     if not frames:
         raise ValueError(f"{dataset}/features.csv: no frame within the encoder samples")
     landmarks = {int(r[0]): r[1:4].astype(float) for r in lms}
-    return FullSlam(sen, odo, frames, truth, landmarks, odo.t[0], start), landmarks
+    return FullSlam(sen, odo, frames, truth, landmarks, odo.t[0], start, wheel), landmarks
 
 
-def smooth(dataset, iterations=200, progress=None, start="truth"):
+def smooth(dataset, iterations=200, progress=None, start="truth", wheel=False):
     """[(t_s, x, y, yaw)] at the frames with features, the landmarks' mean planar error, the number
     of observations of unknown landmarks, LM iterations, and the RMS position standard deviations
     at the frames given all the data (smoothing) and given the data up to each (filtering), from
     the information at the solution."""
-    fs, landmarks = problem(dataset, start)
+    fs, landmarks = problem(dataset, start, wheel)
     _, done = fs.solve(iterations, progress)
     n = fs.n
     spread = (rms_sd(smoothing_variances(fs)), rms_sd(filtering_variances(fs)))
     pose = fs.x[:4 * n].reshape(n, 4)
     poses = [(t * 1e-9, p[0], p[1], p[2]) for t, p in zip(fs.times[1:], pose[1:])]
-    lm = fs.x[4 * n:].reshape(-1, 3)
+    lm = fs.x[4 * n:4 * n + 3 * len(fs.ids)].reshape(-1, 3)
     err = [float(np.hypot(*(lm[q, :2] - landmarks[t][:2]))) for q, t in enumerate(fs.ids)]
     return poses, (float(np.mean(err)) if err else 0.0), fs.dropped, done, spread
 
@@ -456,6 +508,8 @@ def main():
                     help="start from the truth (the bound) or from dead reckoning (how far a "
                     "local solver gets without knowing the basin)")
     ap.add_argument("--out", help="write the smoothed poses here (TUM)")
+    ap.add_argument("--wheel-heading", action="store_true",
+                    help="the wheels' turn as a second measurement of the heading change")
     ap.add_argument("--json", action="store_true")
     a = ap.parse_args()
     if a.iterations < 1:
@@ -467,7 +521,7 @@ def main():
 
     try:
         poses, lm_err, dropped, done, spread = smooth(
-            a.dataset, a.iterations, None if a.json else progress, a.start)
+            a.dataset, a.iterations, None if a.json else progress, a.start, a.wheel_heading)
         dr = sighting_bound.bound(a.dataset, a.run)
     except (OSError, ValueError) as e:
         print(f"full_slam_bound: {e}", file=sys.stderr)

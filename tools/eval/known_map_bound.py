@@ -167,6 +167,7 @@ class Sensors:
         self.tpm_l = number(wheels, "ticks_per_meter_left", path)
         self.tpm_r = number(wheels, "ticks_per_meter_right", path)
         self.distance_noise = number(wheels, "distance_noise", path, 0.02)
+        self.wheel_base = number(wheels, "wheel_base", path, 0.0)
         self.density = number(gyro, "noise_density", path)
         self.bias_sd = number(gyro, "bias_instability", path, 1e-4)
         self.bias_walk = number(gyro, "bias_walk", path, 0.0)

@@ -12,8 +12,11 @@ simulated once and replayed with every configuration; keys are cleanslam-replay 
 configuration, "defaults", with no override. Progress on stderr, the table on stdout. --plot
 draws, per scenario and seed, each configuration's SLAM ATE as a fraction of dead reckoning's
 (against the lines at 1 and 1/2) and its position NEES per degree of freedom (against [0.5, 2]).
---bound adds, per dataset, full_slam_bound.py's filtering standard deviation (what a causal
-estimator can expect on those data; about 10 s a seed) to the table and the plot.
+--bound adds, per dataset, full_slam_bound.py --wheel-heading's filtering standard deviation (what
+a causal estimator that fuses the wheels' heading, as the defaults do, can expect on those data;
+about 10 s a seed) to the table and the plot. Each configuration's SLAM is compared with the dead
+reckoning of its own run; when the configurations' dead reckonings differ (filter.wheel_yaw_fusion
+is part of it), the table gives each its own DR column.
 Exit status 0 unless a run failed to execute (1) or the arguments are wrong (2).
 """
 
@@ -79,10 +82,10 @@ def _f(x, fmt):
 
 
 def full_slam_bound(dataset, run):
-    """full_slam_bound.py DATASET RUN --json: its result, or RunError."""
+    """full_slam_bound.py DATASET RUN --json --wheel-heading: its result, or RunError."""
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "full_slam_bound.py")
-    p = subprocess.run([sys.executable, script, dataset, run, "--json"], stdout=subprocess.PIPE,
-                       stderr=subprocess.PIPE, text=True, check=False)
+    p = subprocess.run([sys.executable, script, dataset, run, "--json", "--wheel-heading"],
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
     if p.returncode != 0:
         raise mc.RunError(f"full_slam_bound.py {dataset}: exit {p.returncode}: "
                           f"{p.stderr.strip()[-300:]}")
@@ -90,10 +93,20 @@ def full_slam_bound(dataset, run):
 
 
 def first_run(results, scenario, seed, names):
-    """(name, result) of the first configuration that ran on this dataset, or (None, None). Every
-    configuration's run holds the same dead reckoning."""
+    """(name, result) of the first configuration that ran on this dataset, or (None, None): the
+    table's path length and shared DR column, the bound's run."""
     return next(((n, results[(scenario, seed, n)]) for n in names
                  if (scenario, seed, n) in results), (None, None))
+
+
+def dead_reckonings_differ(scenario, seeds, names, results):
+    """Whether some configuration's run has a dead reckoning other than the first's on a seed."""
+    for seed in seeds:
+        drs = {results[(scenario, seed, n)]["dr_ate_m"] for n in names
+               if (scenario, seed, n) in results}
+        if len(drs) > 1:
+            return True
+    return False
 
 
 def markdown(scenario, seeds, configs, results, failures, bounds=None):
@@ -103,14 +116,15 @@ def markdown(scenario, seeds, configs, results, failures, bounds=None):
         lines.append(f"- **{n}**: " + (", ".join(f"`{s}`" for s in sets) if sets else
                                         "current defaults"))
     lines.append("")
-    head = ["seed", "path m", "DR ATE m"]
+    own_dr = dead_reckonings_differ(scenario, seeds, names, results)
+    head = ["seed", "path m"] + ([] if own_dr else ["DR ATE m"])
     if bounds is not None:
         head.append("filtering std. dev. m")
     for n in names:
-        head += [f"SLAM ATE m ({n})", f"NEES ({n})"]
+        head += ([f"DR ATE m ({n})"] if own_dr else []) + [f"SLAM ATE m ({n})", f"NEES ({n})"]
     lines.append("| " + " | ".join(head) + " |")
     lines.append("|" + "|".join(["---:"] * len(head)) + "|")
-    columns = {n: ([], []) for n in names}
+    columns = {n: ([], [], []) for n in names}
     path_all, dr_all = [], []
     for seed in seeds:
         _, ref = first_run(results, scenario, seed, names)
@@ -118,8 +132,9 @@ def markdown(scenario, seeds, configs, results, failures, bounds=None):
             lines.append(f"| {seed} | simulation failed | | " +
                          " | ".join([""] * (len(head) - 3)) + " |")
             continue
-        row = [str(seed), _f(ref and ref["path_length_m"], ".1f"), _f(ref and ref["dr_ate_m"],
-                                                                    ".3f")]
+        row = [str(seed), _f(ref and ref["path_length_m"], ".1f")]
+        if not own_dr:
+            row.append(_f(ref and ref["dr_ate_m"], ".3f"))
         if bounds is not None:
             b = bounds.get((scenario, seed))
             row.append(_f(b and b["filtering_sd_m"], ".3f"))
@@ -129,8 +144,11 @@ def markdown(scenario, seeds, configs, results, failures, bounds=None):
         for n in names:
             r = results.get((scenario, seed, n))
             if r is None:
-                row += ["failed", "failed"]
+                row += ["failed"] * (3 if own_dr else 2)
                 continue
+            if own_dr:
+                row.append(_f(r["dr_ate_m"], ".3f"))
+                columns[n][2].append(r["dr_ate_m"])
             columns[n][0].append(r["slam_ate_m"])
             if r["nees_mean"] is not None:
                 columns[n][1].append(r["nees_mean"])
@@ -138,14 +156,17 @@ def markdown(scenario, seeds, configs, results, failures, bounds=None):
             row += [f"**{ate}**" if r["slam_ate_m"] < r["dr_ate_m"] else ate,
                     _f(r["nees_mean"], ".3g")]
         lines.append("| " + " | ".join(row) + " |")
-    mean = ["mean", _f(statistics.fmean(path_all) if path_all else None, ".1f"),
-            _f(statistics.fmean(dr_all) if dr_all else None, ".3f")]
+    mean = ["mean", _f(statistics.fmean(path_all) if path_all else None, ".1f")]
+    if not own_dr:
+        mean.append(_f(statistics.fmean(dr_all) if dr_all else None, ".3f"))
     if bounds is not None:
         sds = [b["filtering_sd_m"] for (sc, _), b in bounds.items() if sc == scenario]
         mean.append(_f(statistics.fmean(sds) if sds else None, ".3f"))
     beats = []
     for n in names:
-        ates, nees = columns[n]
+        ates, nees, drs = columns[n]
+        if own_dr:
+            mean.append(_f(statistics.fmean(drs) if drs else None, ".3f"))
         mean += [_f(statistics.fmean(ates) if ates else None, ".3f"),
                  _f(statistics.fmean(nees) if nees else None, ".3g")]
         ran = [results[(scenario, seed, n)] for seed in seeds if (scenario, seed, n) in results]
@@ -153,9 +174,9 @@ def markdown(scenario, seeds, configs, results, failures, bounds=None):
         beats.append(f"{n} {wins}/{len(ran)}")
     lines.append("| " + " | ".join(mean) + " |")
     lines.append("")
-    lines.append("SLAM ATE in bold where it beats dead reckoning; SLAM better than DR: " +
-                 ", ".join(beats) + ". NEES: mean position NEES over the run's poses (3 if "
-                 "consistent). ATE RMSE with --align none." +
+    lines.append("SLAM ATE in bold where it beats its own run's dead reckoning; SLAM better than "
+                 "DR: " + ", ".join(beats) + ". NEES: mean position NEES over the run's poses "
+                 "(3 if consistent). ATE RMSE with --align none." +
                  (" Filtering std. dev.: full_slam_bound.py's RMS position standard deviation "
                   "given the data up to each frame." if bounds is not None else ""))
     return "\n".join(lines)
