@@ -307,20 +307,30 @@ f_dr = json.loads(p.stdout) if p.returncode == 0 else {}
 check(f_dr.get("full_slam_ate_m", 1.0) < 0.5 * f_dr.get("dr_ate_m", 0.0) and
       abs(f_dr.get("full_slam_ate_m", 1.0) - f_truth.get("full_slam_ate_m", 0.0)) < 0.01,
       f"full SLAM from dead reckoning {f_dr} does not reach the optimum from the truth {f_truth}")
-fs, _ = full_slam_bound.problem(ds, "dr")
-_, _, grad = fs.cost(fs.x, True)
 rng = np.random.default_rng(5)
+
+
+def check_gradient(problem, label, selections):
+    """The cost's analytic gradient against central differences along random directions within
+    each (name, slice) of the unknowns."""
+    _, _, grad = problem.cost(problem.x, True)
+    for name, sel in selections:
+        v = np.zeros(len(problem.x))
+        v[sel] = rng.normal(0.0, 1.0, v[sel].shape)
+        v /= np.linalg.norm(v)
+        eps = 1e-6
+        numeric = (problem.cost(problem.x + eps * v)[0] -
+                   problem.cost(problem.x - eps * v)[0]) / (2 * eps)
+        analytic = 2.0 * float(grad @ v)
+        check(abs(numeric - analytic) <= 1e-4 * abs(analytic) + 1e-3,
+              f"{label} gradient along {name}: analytic {analytic}, numeric {numeric}")
+
+
+fs, _ = full_slam_bound.problem(ds, "dr")
 npose = 4 * fs.n
-for name, sel in (("poses", slice(0, npose)), ("landmarks", slice(npose, len(fs.x))),
-                  ("all", slice(0, len(fs.x)))):
-    v = np.zeros(len(fs.x))
-    v[sel] = rng.normal(0.0, 1.0, v[sel].shape)
-    v /= np.linalg.norm(v)
-    eps = 1e-6
-    numeric = (fs.cost(fs.x + eps * v)[0] - fs.cost(fs.x - eps * v)[0]) / (2 * eps)
-    analytic = 2.0 * float(grad @ v)
-    check(abs(numeric - analytic) <= 1e-4 * abs(analytic) + 1e-3,
-          f"full_slam_bound gradient along {name}: analytic {analytic}, numeric {numeric}")
+check_gradient(fs, "full_slam_bound", (("poses", slice(0, npose)),
+                                       ("landmarks", slice(npose, len(fs.x))),
+                                       ("all", slice(0, len(fs.x)))))
 
 # Given the data so far, the last frame is known as well as given all of it, and no frame better.
 fv = full_slam_bound.filtering_variances(fs)
@@ -335,17 +345,8 @@ check(len(fv) == len(sv) == fs.n - 1 and abs(fv[-1] - sv[-1]) <= 1e-6 * sv[-1] a
 fw, _ = full_slam_bound.problem(ds, "dr", wheel=True)
 check(len(fw.x) == len(fs.x) + 2, f"--wheel-heading: {len(fw.x)} unknowns against {len(fs.x)} + 2")
 fw.x[-2:] = (0.03, -0.02)
-_, _, grad = fw.cost(fw.x, True)
-for name, sel in (("the wheel calibration", slice(len(fw.x) - 2, len(fw.x))),
-                  ("all", slice(0, len(fw.x)))):
-    v = np.zeros(len(fw.x))
-    v[sel] = rng.normal(0.0, 1.0, v[sel].shape)
-    v /= np.linalg.norm(v)
-    eps = 1e-6
-    numeric = (fw.cost(fw.x + eps * v)[0] - fw.cost(fw.x - eps * v)[0]) / (2 * eps)
-    analytic = 2.0 * float(grad @ v)
-    check(abs(numeric - analytic) <= 1e-4 * abs(analytic) + 1e-3,
-          f"--wheel-heading gradient along {name}: analytic {analytic}, numeric {numeric}")
+check_gradient(fw, "--wheel-heading", (("the wheel calibration", slice(len(fw.x) - 2, len(fw.x))),
+                                       ("all", slice(0, len(fw.x)))))
 fw.x[-2:] = 0.0
 fwv = full_slam_bound.filtering_variances(fw)
 swv = full_slam_bound.smoothing_variances(fw)

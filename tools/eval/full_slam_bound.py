@@ -67,13 +67,9 @@ class Odometry(kmb.Odometry):
 
     def __init__(self, dataset, sen):
         super().__init__(dataset, sen)
-        ticks = self.enc[:, 1:3].astype(np.int64)
-        d = (np.diff(ticks, axis=0) + 2**31) % 2**32 - 2**31
-        left, right = d[:, 0] / sen.tpm_l, d[:, 1] / sen.tpm_r
         base = sen.wheel_base if sen.wheel_base > 0.0 else 1.0
-        self.wheel_turn = np.concatenate([[0.0], (right - left) / base])
-        self.wheel_var = np.concatenate(
-            [[0.0], sen.distance_noise**2 * (left**2 + right**2) / base**2])
+        self.wheel_turn = (self.right - self.left) / base
+        self.wheel_var = sen.distance_noise**2 * (self.left**2 + self.right**2) / base**2
 
     def steps(self, t0, t1):
         """(distance, turn, dt, still, wheel turn, its variance) per encoder interval or part of

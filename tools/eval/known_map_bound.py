@@ -140,7 +140,10 @@ class Odometry:
         self.still, self.bias_hat = standstill_bias(self.enc, self.gyro_t, self.gyro_cum, 20)
         ticks = self.enc[:, 1:3].astype(np.int64)
         d = (np.diff(ticks, axis=0) + 2**31) % 2**32 - 2**31
-        self.dist = np.concatenate([[0.0], 0.5 * (d[:, 0] / sen.tpm_l + d[:, 1] / sen.tpm_r)])
+        # Per interval, each wheel's distance (0 before the first sample) and the body's.
+        self.left = np.concatenate([[0.0], d[:, 0] / sen.tpm_l])
+        self.right = np.concatenate([[0.0], d[:, 1] / sen.tpm_r])
+        self.dist = 0.5 * (self.left + self.right)
         self.t = self.enc[:, 0]
 
     def turn(self, t0, t1):
