@@ -148,6 +148,10 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
         f.number("wheel_yaw_drift_std_rad_per_m", x.wheel_yaw_drift_std_rad_per_m, 0.0, 100.0);
     x.wheel_yaw_correlation_time_s =
         f.number("wheel_yaw_correlation_time_s", x.wheel_yaw_correlation_time_s, 0.0, 1e5);
+    x.wheel_drift_state = f.flag("wheel_drift_state", x.wheel_drift_state);
+    if (x.wheel_drift_state && !(x.wheel_yaw_fusion && x.gyro_bias_state)) {
+      f.error("wheel_drift_state", "needs wheel_yaw_fusion and gyro_bias_state set to true");
+    }
     x.reinit_behind_camera = f.flag("reinit_behind_camera", x.reinit_behind_camera);
     x.remap_pixel_std_px = f.number("remap_pixel_std_px", x.remap_pixel_std_px, 0.0, 1e4);
     x.remap_min_yaw_std_deg =
@@ -408,6 +412,7 @@ std::string config_text(const FirmwareConfig& c) {
     << "  wheel_yaw_scale_std: " << fmt(f.wheel_yaw_scale_std) << "\n"
     << "  wheel_yaw_drift_std_rad_per_m: " << fmt(f.wheel_yaw_drift_std_rad_per_m) << "\n"
     << "  wheel_yaw_correlation_time_s: " << fmt(f.wheel_yaw_correlation_time_s) << "\n"
+    << "  wheel_drift_state: " << (f.wheel_drift_state ? "true" : "false") << "\n"
     << "  reinit_behind_camera: " << (f.reinit_behind_camera ? "true" : "false") << "\n"
     << "  remap_pixel_std_px: " << fmt(f.remap_pixel_std_px) << "\n"
     << "  remap_min_yaw_std_deg: " << fmt(f.remap_min_yaw_std_deg) << "\n"

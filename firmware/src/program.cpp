@@ -379,6 +379,14 @@ void print_summary(const Loop& loop, std::FILE* out) {
                  static_cast<unsigned long long>(w.intervals_gated),
                  static_cast<unsigned long long>(w.windows_used),
                  static_cast<unsigned long long>(w.windows_gated));
+    if (w.drift_state) {
+      std::fprintf(out,
+                   "cleanslam: wheel drift state: %+.4f rad/m (std. dev. %.4f), gyro bias %+.5f "
+                   "rad/s (std. dev. %.5f); %llu turn differences fused, %llu gated\n",
+                   w.state_drift_rad_per_m, w.state_drift_std, w.state_gyro_bias_rad_s,
+                   w.state_gyro_bias_std, static_cast<unsigned long long>(w.mismatches_fused),
+                   static_cast<unsigned long long>(w.mismatches_gated));
+    }
   }
   for (std::size_t i = 0; i < kRejectCount; ++i) {
     if (s.rejects.n[i] > 0) {

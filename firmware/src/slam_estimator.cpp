@@ -36,6 +36,8 @@ slam_core::EkfConfig ekf_config(const FirmwareConfig& c) {
   e.gyro_bias_state = c.filter.gyro_bias_state;
   e.gyro_bias_walk = c.filter.gyro_bias_walk;
   e.distance_scale_state = c.filter.distance_scale_state;
+  e.wheel_drift_state = c.filter.wheel_drift_state;
+  e.wheel_drift_std_rad_per_m = c.filter.wheel_yaw_drift_std_rad_per_m;
   if (c.filter.gyro_errors_from_calibration) {
     e.gyro_bias_walk = std::max(e.gyro_bias_walk, c.calibration.gyro.bias_walk);
   }
@@ -63,6 +65,7 @@ slam_core::DeadReckoningConfig dead_reckoning_config(const FirmwareConfig& c) {
   d.wheel_yaw.scale_std = c.filter.wheel_yaw_scale_std;
   d.wheel_yaw.drift_std_rad_per_m = c.filter.wheel_yaw_drift_std_rad_per_m;
   d.wheel_yaw.calibration_correlation_time_s = c.filter.wheel_yaw_correlation_time_s;
+  d.drift_in_state = c.filter.wheel_drift_state;
   return d;
 }
 
@@ -98,6 +101,16 @@ SlamEstimator::SlamEstimator(const FirmwareConfig& config)
   merge_target_.fill(-1);
   ekf_.set_update_step(static_cast<std::int64_t>(config.loop.frame_work_budget) *
                        kUpdateWorkPerUnit);
+  share_wheel_state();
+}
+
+void SlamEstimator::share_wheel_state() {
+  slam_core::WheelYawFusion::StateEstimates e;
+  e.bias = ekf_.gyro_bias();
+  e.bias_var = ekf_.gyro_bias_variance();
+  e.drift = ekf_.wheel_drift();
+  e.drift_var = ekf_.wheel_drift_variance();
+  dr_.set_wheel_state(e);
 }
 
 void SlamEstimator::reset(hal::TimeNs /*t_ns*/) {
@@ -106,6 +119,7 @@ void SlamEstimator::reset(hal::TimeNs /*t_ns*/) {
   const slam_core::Vector6d cam =
       slam_core::camera_pose_from_body_pose(slam_core::Vector6d::Zero(), ekf_.camera());
   ekf_.reset(cam, slam_core::Matrix6d::Identity() * 1e-10);
+  share_wheel_state();
   slot_owner_.fill(-1);
   merge_target_.fill(-1);
   pipeline_->forget_map();
@@ -126,7 +140,12 @@ void SlamEstimator::add_encoder(const hal::EncoderSample& s) {
 void SlamEstimator::predict(hal::TimeNs t_ns, bool /*gyro_ok: the dead reckoner sees it too*/) {
   // Deferred while an update is pending: the dead reckoner keeps the increment until it is done.
   if (t_ns > predicted_to_ns_ && !ekf_.update_pending()) {
-    ekf_.predict(dr_.take_increment(t_ns));
+    const slam_core::OdometryIncrement u = dr_.take_increment(t_ns);
+    ekf_.predict(u);
+    if (config_.filter.wheel_drift_state) {
+      ekf_.fuse_wheel_gyro_mismatch(u.wheel_gyro_mismatch, config_.filter.wheel_yaw_gate_chi2);
+      share_wheel_state();
+    }
     predicted_to_ns_ = t_ns;
   }
 }
@@ -482,6 +501,15 @@ bool SlamEstimator::wheel_yaw(WheelYawReport& out) const {
   out.intervals_gated = k.intervals_gated;
   out.windows_used = k.windows_used;
   out.windows_gated = k.windows_gated;
+  out.drift_state = config_.filter.wheel_drift_state;
+  if (out.drift_state) {
+    out.state_drift_rad_per_m = ekf_.wheel_drift();
+    out.state_drift_std = std::sqrt(std::max(0.0, ekf_.wheel_drift_variance()));
+    out.state_gyro_bias_rad_s = ekf_.gyro_bias();
+    out.state_gyro_bias_std = std::sqrt(std::max(0.0, ekf_.gyro_bias_variance()));
+    out.mismatches_fused = ekf_.counters().wheel_gyro_mismatches_fused;
+    out.mismatches_gated = ekf_.counters().wheel_gyro_mismatches_gated;
+  }
   return true;
 }
 

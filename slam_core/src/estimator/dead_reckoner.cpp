@@ -135,7 +135,7 @@ bool DeadReckoner::standing_still() const {
 }
 
 void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt, bool gyro,
-                        double wheels, double gyro_weight) {
+                        double wheels, double gyro_weight, double drift_weight) {
   Increment& in = inc_;
   const double mid = in.yaw + 0.5 * dyaw;
   const double c = std::cos(mid);
@@ -157,6 +157,7 @@ void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt,
   in.d_scale = F * in.d_scale + distance * Eigen::Vector3d(c, s, 0.0);
   in.d_bias = F * in.d_bias;
   in.d_gyro_scale = F * in.d_gyro_scale;
+  in.d_drift = F * in.d_drift + drift_weight * g_yaw;
   if (gyro) {
     in.d_gyro_scale += gyro_weight * dyaw * g_yaw;
     in.d_bias -= gyro_weight * dt * g_yaw;
@@ -236,6 +237,9 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
   double fused_correction = 0.0;
   double fused_var = -1.0;
   double gyro_weight = 1.0;
+  double drift_weight = 0.0;
+  // The increment's heading (drift_in_state) differs from the dead reckoner's own.
+  double increment_correction = 0.0;
   if (gyro && config_.wheel_yaw.enabled && !heading_held()) {
     const double nd = calibration_.gyro.noise_density;
     const double q_left = 1.0 / w.ticks_per_meter_left;
@@ -250,10 +254,28 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
                   (w.wheel_base * w.wheel_base);
     r.distance = d;
     r.dt = live1 - live0;
+    if (config_.drift_in_state) {
+      const WheelYawFusion::StateFused sf = wheel_yaw_.fused_for_state(r, wheel_state_);
+      increment_correction = sf.yaw - dyaw;
+      fused_var = sf.variance;
+      gyro_weight = sf.gyro_weight;
+      drift_weight = sf.drift_weight;
+      if (sf.fused) {
+        OdometryIncrement::WheelGyroMismatch& m = inc_.mismatch;
+        m.z += sf.mismatch;
+        m.dt += r.dt;
+        m.distance += r.distance;
+        m.variance += sf.mismatch_variance;
+        ++m.intervals;
+      }
+    }
     const WheelYawFusion::Fused f = wheel_yaw_.fuse(r);
     fused_correction = f.yaw - dyaw;
-    fused_var = f.variance;
-    gyro_weight = f.gyro_weight;
+    if (!config_.drift_in_state) {
+      increment_correction = fused_correction;
+      fused_var = f.variance;
+      gyro_weight = f.gyro_weight;
+    }
     dyaw = f.yaw;
   }
   const double mid = yaw_ + 0.5 * dyaw;
@@ -265,7 +287,7 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     // A take already extrapolated past this sample.
     pending_distance_ -= d;
     pending_yaw_ -= dyaw_enc;
-    pending_fused_correction_ += fused_correction;
+    pending_fused_correction_ += increment_correction;
   } else {
     const double seg_d = d - pending_distance_;
     double seg_yaw = dyaw_enc - pending_yaw_;
@@ -276,6 +298,7 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     const bool seg_gyro = gyro && gyro_angle(seg_t_, ths, lives);
     double seg_dt = seconds(s.t_ns - seg_t_);
     double seg_weight = 1.0;
+    double seg_drift_weight = 0.0;
     if (seg_gyro) {
       seg_yaw = th1 - ths;
       if (config_.hold_heading_when_still) {
@@ -287,13 +310,15 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
         // A take inside the interval integrated its first part from the gyro alone.
         const double interval = live1 - live0;
         const double part = interval > 0.0 ? std::clamp((live1 - lives) / interval, 0.0, 1.0) : 1.0;
-        seg_yaw += fused_correction + pending_fused_correction_;
+        seg_yaw += increment_correction + pending_fused_correction_;
         pending_fused_correction_ = 0.0;
         yaw_var = fused_var * part;
         seg_weight = gyro_weight;
+        seg_drift_weight = drift_weight * part;
       }
     }
-    step(seg_d, seg_yaw, yaw_var, seg_dt, seg_gyro, std::abs(dl) + std::abs(dr), seg_weight);
+    step(seg_d, seg_yaw, yaw_var, seg_dt, seg_gyro, std::abs(dl) + std::abs(dr), seg_weight,
+         seg_drift_weight);
     seg_t_ = s.t_ns;
     pending_distance_ = 0.0;
     pending_yaw_ = 0.0;
@@ -387,6 +412,10 @@ OdometryIncrement DeadReckoner::camera_increment(const Increment& in, double dt_
   Vector6d d_scale_body;
   d_scale_body << in.d_scale.x(), in.d_scale.y(), 0.0, 0.0, 0.0, in.d_scale.z();
   out.du_dscale = J * d_scale_body;
+  Vector6d d_drift_body;
+  d_drift_body << in.d_drift.x(), in.d_drift.y(), 0.0, 0.0, 0.0, in.d_drift.z();
+  out.du_ddrift = J * d_drift_body;
+  out.wheel_gyro_mismatch = in.mismatch;
   out.distance_m = in.distance;
   out.dt_s = dt_s;
   out.gyro_used = in.gyro_used;

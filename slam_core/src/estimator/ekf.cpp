@@ -51,7 +51,9 @@ Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
     : config_(config),
       camera_(calibration.camera),
       max_slots_(std::clamp(config.max_landmarks, 0, hal::kMaxLandmarks)),
-      first_slot_(config.gyro_bias_state || config.distance_scale_state ? 1 : 0),
+      first_slot_(config.gyro_bias_state || config.distance_scale_state || config.wheel_drift_state
+                      ? 1
+                      : 0),
       bias_std0_(config.gyro_bias_state ? calibration.gyro.bias_instability : 0.0),
       scale_std0_(!config.distance_scale_state           ? 0.0
                   : calibration.wheels.scale_error > 0.0 ? calibration.wheels.scale_error
@@ -84,6 +86,8 @@ void Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
   if (first_slot_ > 0) {
     P_(kBiasRow, kBiasRow) = bias_std0_ * bias_std0_;
     P_(kScaleRow, kScaleRow) = scale_std0_ * scale_std0_;
+    const double c0 = config_.wheel_drift_state ? config_.wheel_drift_std_rad_per_m : 0.0;
+    P_(kDriftRow, kDriftRow) = c0 * c0;
   }
   update_counter_ = 0;
   last_motion_w_.setZero();
@@ -194,14 +198,14 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
   }
   const Vector6d pose = x_.head<6>();
   const bool odometry_states = first_slot_ > 0;
-  // With the odometry error states e = (gyro bias b, distance scale s), the increment is
-  // u + du/de e and d pose / d e = G du/de.
-  Eigen::Matrix<double, 6, 2> du_de;
-  du_de << u.du_dbias, u.du_dscale;
+  // With the odometry error states e = (gyro bias b, distance scale s, wheel drift c), the
+  // increment is u + du/de e and d pose / d e = G du/de.
+  Eigen::Matrix<double, 6, 3> du_de;
+  du_de << u.du_dbias, u.du_dscale, u.du_ddrift;
   Vector6d ub;
   ub << u.dx_c, u.dpsi_c;
   if (odometry_states) {
-    ub += du_de * x_.segment<2>(kBiasRow);
+    ub += du_de * x_.segment<3>(kBiasRow);
   }
   Matrix6d F;
   Matrix6d G;
@@ -213,19 +217,19 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
 
   const Matrix6d Pxx = P_.topLeftCorner<6, 6>();
   Matrix6d Pn = F * Pxx * F.transpose() + G * Q * G.transpose();  // eq. 7
-  Eigen::Matrix<double, 6, 2> Fe = Eigen::Matrix<double, 6, 2>::Zero();
+  Eigen::Matrix<double, 6, 3> Fe = Eigen::Matrix<double, 6, 3>::Zero();
   if (odometry_states) {
     Fe = G * du_de;
-    const Eigen::Matrix<double, 6, 2> FPxe = F * P_.block<6, 2>(0, kBiasRow);
+    const Eigen::Matrix<double, 6, 3> FPxe = F * P_.block<6, 3>(0, kBiasRow);
     Pn += FPxe * Fe.transpose() + Fe * FPxe.transpose() +
-          Fe * P_.block<2, 2>(kBiasRow, kBiasRow) * Fe.transpose();
+          Fe * P_.block<3, 3>(kBiasRow, kBiasRow) * Fe.transpose();
   }
   const int nl = active_dim_ - kPose;
   if (nl > 0) {  // eq. 8
     cross_.resize(6, nl);
     cross_.noalias() = F.lazyProduct(P_.block(0, kPose, 6, nl));
     if (odometry_states) {
-      cross_.noalias() += Fe.lazyProduct(P_.block(kBiasRow, kPose, 2, nl));
+      cross_.noalias() += Fe.lazyProduct(P_.block(kBiasRow, kPose, 3, nl));
     }
     P_.block(0, kPose, 6, nl) = cross_;
     P_.block(kPose, 0, nl, 6) = cross_.transpose();

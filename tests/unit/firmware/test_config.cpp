@@ -44,7 +44,7 @@ TEST(Config, TheCheapOdometryProfileLoadsAndTurnsOnItsMechanisms) {
   const firmware::FilterSettings& f = r.config.filter;
   EXPECT_EQ(f.eps_trk_px, 3.0);
   EXPECT_TRUE(f.gyro_bias_state && f.gyro_errors_from_calibration && f.distance_scale_state &&
-              f.second_order_yaw && f.remap_merge_across_ray);
+              f.second_order_yaw && f.remap_merge_across_ray && f.wheel_drift_state);
   // Everything else stays at the defaults.
   FirmwareConfig expected;
   expected.filter.eps_trk_px = 3.0;
@@ -53,6 +53,7 @@ TEST(Config, TheCheapOdometryProfileLoadsAndTurnsOnItsMechanisms) {
   expected.filter.distance_scale_state = true;
   expected.filter.second_order_yaw = true;
   expected.filter.remap_merge_across_ray = true;
+  expected.filter.wheel_drift_state = true;
   EXPECT_EQ(config_text(r.config), config_text(expected));
 }
 
@@ -237,6 +238,23 @@ TEST(Config, WheelYawFusionKeysParseAndAreRangeChecked) {
   EXPECT_NE(all.find("x.yaml:2: filter.wheel_yaw_window_intervals"), std::string::npos) << all;
   EXPECT_NE(all.find("x.yaml:3: filter.wheel_yaw_gate_chi2"), std::string::npos) << all;
   EXPECT_NE(all.find("x.yaml:4: filter.wheel_yaw_correlation_time_s"), std::string::npos) << all;
+}
+
+TEST(Config, WheelDriftStateNeedsTheHeadingFusionAndTheGyroBiasState) {
+  EXPECT_FALSE(FirmwareConfig{}.filter.wheel_drift_state);
+  const ConfigResult r =
+      parse_config("filter:\n  gyro_bias_state: true\n  wheel_drift_state: true\n", "d.yaml", {});
+  ASSERT_TRUE(r.ok()) << joined(r.errors);
+  EXPECT_TRUE(r.config.filter.wheel_drift_state);
+  const ConfigResult bad = parse_config(
+      "filter:\n  wheel_yaw_fusion: false\n  gyro_bias_state: true\n  wheel_drift_state: true\n",
+      "e.yaml", {});
+  ASSERT_EQ(bad.errors.size(), 1U) << joined(bad.errors);
+  EXPECT_NE(bad.errors[0].find("e.yaml:4: filter.wheel_drift_state"), std::string::npos)
+      << bad.errors[0];
+  EXPECT_NE(bad.errors[0].find("gyro_bias_state"), std::string::npos) << bad.errors[0];
+  const ConfigResult no_bias = parse_config("filter:\n  wheel_drift_state: true\n", "f.yaml", {});
+  EXPECT_EQ(no_bias.errors.size(), 1U) << joined(no_bias.errors);
 }
 
 }  // namespace

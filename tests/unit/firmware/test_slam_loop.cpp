@@ -183,6 +183,41 @@ TEST(SlamLoop, SummaryCountsTheMapsChanges) {
   EXPECT_NE(text.find(fused), std::string::npos) << text;
 }
 
+// With the wheel drift state the filter learns the drift and the gyro bias from the two turns'
+// differences at every prediction, and the summary says so.
+TEST(SlamLoop, WheelDriftStateLearnsFromEveryPredictionAndIsSummarized) {
+  SimulatedRun run(30.0);
+  ASSERT_TRUE(run.ok);
+  FirmwareConfig config;
+  config.calibration = run.calibration;
+  config.filter.gyro_bias_state = true;
+  config.filter.wheel_drift_state = true;
+  SlamEstimator estimator(config);
+  Loop loop(config.loop, estimator);
+  loop.add_source(&run.source);
+  firmware::VirtualClock clock;
+  firmware::run_virtual(loop, clock, false, nullptr);
+  firmware::WheelYawReport w;
+  ASSERT_TRUE(estimator.wheel_yaw(w));
+  ASSERT_TRUE(w.drift_state);
+  EXPECT_GT(w.mismatches_fused, 400U);  // 20 Hz encoder intervals over 30 s, in the increments
+  EXPECT_LT(w.state_drift_std, 0.5 * config.filter.wheel_yaw_drift_std_rad_per_m);
+  EXPECT_TRUE(std::isfinite(w.state_drift_rad_per_m));
+  std::FILE* f = std::tmpfile();
+  ASSERT_NE(f, nullptr);
+  firmware::print_summary(loop, f);
+  std::rewind(f);
+  std::string text;
+  for (int ch = std::fgetc(f); ch != EOF; ch = std::fgetc(f)) {
+    text.push_back(static_cast<char>(ch));
+  }
+  std::fclose(f);
+  const std::string counts = std::to_string(w.mismatches_fused) + " turn differences fused, " +
+                             std::to_string(w.mismatches_gated) + " gated\n";
+  EXPECT_NE(text.find("cleanslam: wheel drift state: "), std::string::npos) << text;
+  EXPECT_NE(text.find(counts), std::string::npos) << text;
+}
+
 // The estimator on the loop is deterministic: two runs, the same poses bit for bit.
 TEST(SlamLoop, DeterministicAcrossRuns) {
   SimulatedRun run(30.0);

@@ -513,3 +513,81 @@ TEST(DeadReckoner, DuDbiasWithWheelYawFusionIsTheNumericalDerivativeByAGyroOffse
   EXPECT_LT(u.du_dbias.tail<3>().norm(), 0.9 * g.du_dbias.tail<3>().norm());
   EXPECT_GT(u.du_dbias.tail<3>().norm(), 0.1 * g.du_dbias.tail<3>().norm());
 }
+
+namespace {
+
+// 2.03 s of driving with wheels believed to count 1 + e (left) and 1 - e (right) times too few
+// ticks per metre: the wheels then turn 2 e / wheel_base too far per metre, a wheel drift of
+// c = 2 e / wheel_base that the increment (taken at c = 0) leaves to du_ddrift. Turning, e would
+// also change the measured distance (by e times the turn's wheel travel): `turn` off keeps the
+// drift the only change.
+cs::OdometryIncrement increment_with_wheel_drift(const hal::Calibration& cal, double e,
+                                                 double gyro_bias, bool turn = true) {
+  hal::Calibration believed = cal;
+  believed.wheels.ticks_per_meter_left *= 1.0 + e;
+  believed.wheels.ticks_per_meter_right *= 1.0 - e;
+  cs::DeadReckoningConfig c;
+  c.wheel_yaw.enabled = true;
+  c.wheel_yaw.window_intervals = 1000000;  // the heading scale does not move within the test
+  c.drift_in_state = true;
+  c.bias_in_state = true;
+  cs::DeadReckoner dr(believed, c);
+  cs::WheelYawFusion::StateEstimates state;
+  state.bias_var = 0.005 * 0.005;
+  state.drift_var = 0.05 * 0.05;
+  dr.set_wheel_state(state);
+  Drive drive(dr, cal);
+  drive.v = [](double t) { return 0.2 + 0.05 * std::cos(t); };
+  drive.w = [turn](double t) { return turn ? 0.3 + 0.2 * std::sin(t) : 0.0; };
+  drive.gyro_bias = gyro_bias;
+  drive.run_until(0);
+  dr.take_increment(0);
+  drive.run_until(2030 * kMs);
+  return dr.take_increment(2030 * kMs);
+}
+
+}  // namespace
+
+TEST(DeadReckoner, DuDdriftIsTheNumericalDerivativeOfTheIncrementByAWheelDrift) {
+  hal::Calibration cal;
+  cal.gyro.noise_density = 0.05;
+  cal.wheels.distance_noise = 0.3;
+  const double b = cal.wheels.wheel_base;
+  const cs::OdometryIncrement u = increment_with_wheel_drift(cal, 0.0, 0.0, false);
+  const auto f = [&](const Eigen::Matrix<double, 1, 1>& c) {
+    const cs::OdometryIncrement uc = increment_with_wheel_drift(cal, 0.5 * b * c(0), 0.0, false);
+    cs::Vector6d out;
+    out << uc.dx_c, uc.dpsi_c;
+    return out;
+  };
+  const cs::Vector6d numeric =
+      -cleanslam::test::numeric_jacobian<6, 1>(f, Eigen::Matrix<double, 1, 1>::Zero(), 1e-4);
+  EXPECT_LT((u.du_ddrift - numeric).cwiseAbs().maxCoeff(), 2e-5) << u.du_ddrift.transpose() << "\n"
+                                                                 << numeric.transpose();
+  // The drift moves the heading by the wheels' share of the distance.
+  EXPECT_GT(u.du_ddrift.tail<3>().norm(), 0.1 * u.distance_m);
+  EXPECT_LT(u.du_ddrift.tail<3>().norm(), u.distance_m);
+  // Without the filter's states the increment has no such derivative.
+  const cs::OdometryIncrement g = increment_with_gyro_offset(cal, cs::DeadReckoningConfig{}, 0.0);
+  EXPECT_EQ(g.du_ddrift.norm(), 0.0);
+  EXPECT_EQ(g.wheel_gyro_mismatch.intervals, 0);
+}
+
+TEST(DeadReckoner, WheelGyroMismatchIsTheBiasTimeLessTheDriftDistance) {
+  hal::Calibration cal;
+  cal.gyro.noise_density = 0.05;
+  cal.wheels.distance_noise = 0.3;
+  constexpr double kBias = 0.01;
+  constexpr double kE = 0.02;
+  const double c = 2.0 * kE / cal.wheels.wheel_base;
+  const cs::OdometryIncrement u = increment_with_wheel_drift(cal, kE, kBias);
+  const cs::OdometryIncrement::WheelGyroMismatch& m = u.wheel_gyro_mismatch;
+  ASSERT_EQ(m.intervals, 40);
+  EXPECT_NEAR(m.dt, 2.0, 1e-9);
+  EXPECT_NEAR(m.distance, u.distance_m, 0.01);  // the take extrapolated 30 ms past the wheels
+  EXPECT_NEAR(m.z, kBias * m.dt - c * m.distance, 2e-3) << m.z;
+  EXPECT_GT(std::abs(c * m.distance), 0.05);
+  // The gyro's and the wheels' noise over 40 intervals.
+  EXPECT_GT(m.variance, 0.05 * 0.05 * 2.0);
+  EXPECT_LT(m.variance, 2.0 * 0.05 * 0.05 * 2.0 + 0.3 * 0.3 * 2.0 * 0.45 * 0.45);
+}

@@ -84,55 +84,63 @@ TEST(EkfGyroBias, PredictionPropagatesPoseAndBiasWithTheNumericalJacobian) {
   }
 }
 
-TEST(EkfDistanceScale, PredictionPropagatesPoseBiasAndScaleWithTheNumericalJacobian) {
+// All three odometry error states: the gyro bias, the distance scale and the wheels' drift per
+// metre (slot 0's three rows).
+TEST(EkfOdometryStates, PredictionPropagatesPoseBiasScaleAndDriftWithTheNumericalJacobian) {
   constexpr double kScaleStd = 0.12;
+  constexpr double kDriftStd = 0.5;
   hal::Calibration calibration;
   calibration.gyro.bias_instability = kBiasStd;
   calibration.wheels.scale_error = kScaleStd;
   cs::EkfConfig config = bias_config();
   config.distance_scale_state = true;
+  config.wheel_drift_state = true;
+  config.wheel_drift_std_rad_per_m = kDriftStd;
   cs::Ekf ekf(calibration, config);
   cs::Vector6d pose0;
   pose0 << 0.3, -0.2, 0.1, 0.01, -0.02, 0.4;
   ekf.reset(pose0, cs::Matrix6d::Identity() * 1e-4);
-  using Vector8d = Eigen::Matrix<double, 8, 1>;
-  using Matrix8d = Eigen::Matrix<double, 8, 8>;
-  Matrix8d P = Matrix8d::Zero();
+  using Vector9d = Eigen::Matrix<double, 9, 1>;
+  using Matrix9d = Eigen::Matrix<double, 9, 9>;
+  Matrix9d P = Matrix9d::Zero();
   P.topLeftCorner<6, 6>() = cs::Matrix6d::Identity() * 1e-4;
   P(6, 6) = kBiasStd * kBiasStd;
   P(7, 7) = kScaleStd * kScaleStd;
+  P(8, 8) = kDriftStd * kDriftStd;
   EXPECT_NEAR(ekf.distance_scale_variance(), P(7, 7), 1e-15);
+  EXPECT_NEAR(ekf.wheel_drift_variance(), P(8, 8), 1e-15);
   for (cs::OdometryIncrement u : {increment(0.1, 0.3, 0.5), increment(0.05, -0.2, 0.7)}) {
     u.du_dscale << u.dx_c, 0.0, 0.0, 0.0;
-    Vector8d s;
-    s << ekf.camera_pose(), ekf.gyro_bias(), ekf.distance_scale();
-    const auto f = [&u](const Vector8d& a) {
-      Vector8d out;
-      out << cs::predict_pose(
-          a.head<6>(), u.dx_c + u.du_dbias.head<3>() * a(6) + u.du_dscale.head<3>() * a(7),
-          u.dpsi_c + u.du_dbias.tail<3>() * a(6) + u.du_dscale.tail<3>() * a(7)),
-          a(6), a(7);
+    u.du_ddrift << 0.2 * u.dx_c(2) * u.dx_c(2), 0.0, 0.0, 0.0, -0.7 * u.dx_c(2), 0.0;
+    Vector9d s;
+    s << ekf.camera_pose(), ekf.gyro_bias(), ekf.distance_scale(), ekf.wheel_drift();
+    const auto f = [&u](const Vector9d& a) {
+      const Eigen::Vector3d e = a.tail<3>();
+      Eigen::Matrix<double, 6, 3> du_de;
+      du_de << u.du_dbias, u.du_dscale, u.du_ddrift;
+      const cs::Vector6d d = du_de * e;
+      Vector9d out;
+      out << cs::predict_pose(a.head<6>(), u.dx_c + d.head<3>(), u.dpsi_c + d.tail<3>()), e;
       return out;
     };
-    const Matrix8d Phi = cleanslam::test::numeric_jacobian<8, 8>(f, s);
+    const Matrix9d Phi = cleanslam::test::numeric_jacobian<9, 9>(f, s);
     cs::Matrix6d F;
     cs::Matrix6d G;
     cs::prediction_jacobians(s.head<6>(), u.dx_c, u.dpsi_c, F, G);
-    Matrix8d Q = Matrix8d::Zero();
+    Matrix9d Q = Matrix9d::Zero();
     Q.topLeftCorner<6, 6>() = G * u.Q * G.transpose();
     Q(6, 6) = kBiasWalk * kBiasWalk * u.dt_s;
     P = Phi * P * Phi.transpose() + Q;
     ASSERT_TRUE(ekf.predict(u).applied());
     EXPECT_TRUE(ekf.camera_pose().isApprox(f(s).head<6>(), 1e-12));
+    // The second step's pose covariance depends on the first's cross-covariances.
     EXPECT_LT((ekf.pose_covariance() - P.topLeftCorner<6, 6>()).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_LT((ekf.covariance().block<6, 3>(0, 6) - P.block<6, 3>(0, 6)).cwiseAbs().maxCoeff(),
+              1e-9);
     EXPECT_NEAR(ekf.gyro_bias_variance(), P(6, 6), 1e-15);
     EXPECT_NEAR(ekf.distance_scale_variance(), P(7, 7), 1e-15);
+    EXPECT_NEAR(ekf.wheel_drift_variance(), P(8, 8), 1e-15);
   }
-  // The scale's prior reaches the pose: along-track variance beyond the increments' own.
-  auto plain = make_ekf(bias_config());
-  ASSERT_TRUE(plain->predict(increment(0.1, 0.3, 0.5)).applied());
-  ASSERT_TRUE(plain->predict(increment(0.05, -0.2, 0.7)).applied());
-  EXPECT_GT(ekf.pose_covariance().trace(), plain->pose_covariance().trace() + 1e-5);
 }
 
 TEST(EkfDistanceScale, AloneItTakesSlotZeroAndLeavesTheBiasAtZero) {

@@ -221,3 +221,84 @@ TEST(WheelYawFusion, NonFiniteOrNegativeInputIsCountedAndLeavesTheCalibration) {
   EXPECT_EQ(f.calibration_covariance(), P);
   EXPECT_TRUE(f.calibration().allFinite());
 }
+
+// For a filter that holds b and c: the heading taken at b = c = 0 plus the weights times the
+// filter's b and c is the inverse-variance mean of the two readings corrected by them, with the
+// filter's variances of b and c in the weights; the two readings' difference and its noise come
+// with it.
+TEST(WheelYawFusion, FusedForStateIsLinearInTheFiltersBiasAndDrift) {
+  cs::WheelYawFusion f = make_fusion();
+  const std::vector<Interval> run = wander(300.0, 21);
+  for (const Interval& i : run) {
+    f.fuse(i.reading);
+  }
+  const double s = f.calibration()(1);
+  const double var_s = f.calibration_covariance()(1, 1);
+  cs::WheelYawFusion::StateEstimates e;
+  e.bias = 0.004;
+  e.bias_var = 0.005 * 0.005;
+  e.drift = -0.13;
+  e.drift_var = 0.03 * 0.03;
+  int fused = 0;
+  double max_error = 0.0;
+  for (std::size_t k = 0; k < run.size(); k += 7) {
+    const cs::WheelYawFusion::Reading& r = run[k].reading;
+    const cs::WheelYawFusion::StateFused out = f.fused_for_state(r, e);
+    const double gyro = r.gyro_yaw - e.bias * r.dt;
+    const double wheel = (1.0 + s) * r.wheel_yaw - e.drift * r.distance;
+    const double gyro_var = r.gyro_var + r.dt * r.dt * e.bias_var;
+    const double wheel_var = (1.0 + s) * (1.0 + s) * r.wheel_var +
+                             r.wheel_yaw * r.wheel_yaw * var_s +
+                             r.distance * r.distance * e.drift_var;
+    if (!out.fused) {
+      EXPECT_GT((gyro - wheel) * (gyro - wheel), 16.0 * (gyro_var + wheel_var));
+      continue;
+    }
+    ++fused;
+    const double weight = wheel_var / (gyro_var + wheel_var);
+    const double expected = weight * gyro + (1.0 - weight) * wheel;
+    const double linear = out.yaw + out.gyro_weight * (-e.bias * r.dt) + out.drift_weight * e.drift;
+    max_error = std::max(max_error, std::abs(linear - expected));
+    EXPECT_NEAR(out.gyro_weight, weight, 1e-12);
+    EXPECT_NEAR(out.drift_weight, -(1.0 - weight) * r.distance, 1e-15);
+    EXPECT_NEAR(out.mismatch, r.gyro_yaw - (1.0 + s) * r.wheel_yaw, 1e-15);
+    EXPECT_NEAR(out.mismatch_variance, r.gyro_var + (1.0 + s) * (1.0 + s) * r.wheel_var, 1e-18);
+  }
+  EXPECT_LT(max_error, 1e-15);
+  EXPECT_GT(fused, static_cast<int>(run.size() / 7) * 9 / 10);
+}
+
+TEST(WheelYawFusion, FusedForStateGivesTheGyroForASlipOrBadInputAndChangesNothing) {
+  cs::WheelYawFusion f = make_fusion();
+  for (const Interval& i : wander(120.0, 5)) {
+    f.fuse(i.reading);
+  }
+  const Eigen::Vector3d p = f.calibration();
+  const cs::WheelYawCounters before = f.counters();
+  cs::WheelYawFusion::Reading r;
+  r.gyro_yaw = 0.001;
+  r.gyro_var = kGyroDensity * kGyroDensity * kDt;
+  r.wheel_yaw = 0.3 * kDt / kWheelBase;  // a wheel spinning on the spot
+  r.wheel_var = 1e-6;
+  r.distance = 0.15 * kDt;
+  r.dt = kDt;
+  cs::WheelYawFusion::StateEstimates e;
+  e.bias_var = 0.005 * 0.005;
+  e.drift_var = 0.03 * 0.03;
+  const auto gyro_only = [&](const cs::WheelYawFusion::StateFused& out) {
+    EXPECT_FALSE(out.fused);
+    EXPECT_EQ(out.yaw, r.gyro_yaw);
+    EXPECT_EQ(out.gyro_weight, 1.0);
+    EXPECT_EQ(out.drift_weight, 0.0);
+  };
+  gyro_only(f.fused_for_state(r, e));
+  r.wheel_yaw = 0.0;
+  e.drift = std::numeric_limits<double>::quiet_NaN();
+  gyro_only(f.fused_for_state(r, e));
+  e.drift = 0.0;
+  e.bias_var = -1.0;
+  gyro_only(f.fused_for_state(r, e));
+  EXPECT_EQ(f.calibration(), p);
+  EXPECT_EQ(f.counters().intervals_fused, before.intervals_fused);
+  EXPECT_EQ(f.counters().intervals_gated, before.intervals_gated);
+}

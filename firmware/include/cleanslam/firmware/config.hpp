@@ -50,6 +50,10 @@ struct FilterSettings {
   double wheel_yaw_scale_std = 0.2;
   double wheel_yaw_drift_std_rad_per_m = 0.5;
   double wheel_yaw_correlation_time_s = 50.0;
+  // The wheels' drift per metre as a filter state beside the gyro bias state, learnt from the
+  // gyro's and the wheels' turns and from the camera (slam_core::EkfConfig::wheel_drift_state);
+  // needs wheel_yaw_fusion and gyro_bias_state.
+  bool wheel_drift_state = false;
   // A tracked feature whose landmark is predicted behind the camera re-initializes the landmark.
   bool reinit_behind_camera = false;
   // Re-sighting with the pose lost (yaw std. dev. above remap_min_yaw_std_deg): a tracked landmark

@@ -36,6 +36,15 @@ struct WheelYawReport {
   std::uint64_t intervals_gated = 0;
   std::uint64_t windows_used = 0;
   std::uint64_t windows_gated = 0;
+  // The filter's own gyro bias and wheel drift (filter.wheel_drift_state): learnt from the two
+  // turns' differences and from the camera.
+  bool drift_state = false;
+  double state_drift_rad_per_m = 0.0;
+  double state_drift_std = 0.0;
+  double state_gyro_bias_rad_s = 0.0;
+  double state_gyro_bias_std = 0.0;
+  std::uint64_t mismatches_fused = 0;
+  std::uint64_t mismatches_gated = 0;
 };
 
 // What the loop drives: dead reckoning, the EKF and the frame pipeline. The loop validates the

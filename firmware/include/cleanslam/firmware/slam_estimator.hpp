@@ -55,6 +55,9 @@ class SlamEstimator final : public Estimator {
   [[nodiscard]] const slam_core::frontend::FramePipeline& pipeline() const { return *pipeline_; }
 
  private:
+  // The filter's gyro bias and wheel drift for the dead reckoner's weights
+  // (filter.wheel_drift_state).
+  void share_wheel_state();
   // Features path: association, JCBB and the update's start; false when nothing is fused
   // (standing still, everything recorded as skipped).
   bool associate_features();

@@ -64,6 +64,13 @@ struct DeadReckoningConfig {
   double gyro_scale_error = 0.0;
   // The heading from the gyro and the wheels together (wheel_yaw_fusion.hpp); off: the gyro's.
   WheelYawFusionConfig wheel_yaw;
+  // With wheel_yaw: the filter holds the gyro bias and the wheels' drift per metre as states
+  // (EkfConfig::gyro_bias_state, wheel_drift_state). The increments then weigh the two turns with
+  // the filter's variances of b and c (set_wheel_state), are taken at b = c = 0 with their
+  // derivatives (du_dbias, du_ddrift), and carry the two turns' difference for the filter to
+  // learn b and c from (OdometryIncrement::wheel_gyro_mismatch). The dead reckoner's own pose
+  // keeps its own calibration.
+  bool drift_in_state = false;
 };
 
 // u = (dx_c, dpsi_c) of a body increment (dx, dy, dz, droll, dpitch, dyaw), expressed in the
@@ -111,6 +118,8 @@ class DeadReckoner {
 
   [[nodiscard]] const DeadReckonerCounters& counters() const { return counters_; }
   [[nodiscard]] const WheelYawFusion& wheel_yaw_fusion() const { return wheel_yaw_; }
+  // The filter's b and c for the increments' weights (DeadReckoningConfig::drift_in_state).
+  void set_wheel_state(const WheelYawFusion::StateEstimates& e) { wheel_state_ = e; }
 
  private:
   struct Knot {
@@ -126,6 +135,8 @@ class DeadReckoner {
     Eigen::Vector3d d_scale = Eigen::Vector3d::Zero();  // d(x, y, yaw) / d(distance scale error)
     Eigen::Vector3d d_bias = Eigen::Vector3d::Zero();   // d(x, y, yaw) / d(gyro bias)
     Eigen::Vector3d d_gyro_scale = Eigen::Vector3d::Zero();  // d(x, y, yaw) / d(gyro scale)
+    Eigen::Vector3d d_drift = Eigen::Vector3d::Zero();  // d(x, y, yaw) / d(wheel drift per metre)
+    OdometryIncrement::WheelGyroMismatch mismatch;
     double distance = 0.0;
     double wheel_travel = 0.0;
     bool gyro_used = true;
@@ -134,9 +145,10 @@ class DeadReckoner {
   // Heading integral at t and the integrated (not held) time; false when the gyro does not cover t.
   bool gyro_angle(hal::TimeNs t, double& theta, double& live) const;
   [[nodiscard]] bool heading_held() const;
-  // gyro_weight: d dyaw / d (the gyro's reading), 1 without wheel_yaw fusion.
+  // gyro_weight: d dyaw / d (the gyro's reading), 1 without wheel_yaw fusion; drift_weight:
+  // d dyaw / d c (drift_in_state).
   void step(double distance, double dyaw, double yaw_var, double dt, bool gyro, double wheels,
-            double gyro_weight);
+            double gyro_weight, double drift_weight = 0.0);
   OdometryIncrement camera_increment(const Increment& inc, double dt_s) const;
 
   hal::Calibration calibration_;
@@ -181,6 +193,7 @@ class DeadReckoner {
   hal::TimeNs gyro_t_ = 0;
 
   WheelYawFusion wheel_yaw_;
+  WheelYawFusion::StateEstimates wheel_state_;
   DeadReckonerCounters counters_;
 };
 

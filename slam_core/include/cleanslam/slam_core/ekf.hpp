@@ -45,6 +45,8 @@ struct EkfCounters {
   std::uint64_t consider_observations = 0;  // fused with the consider (Schmidt) gain
   std::uint64_t landmarks_merged = 0;
   std::uint64_t merges_gated = 0;
+  std::uint64_t wheel_gyro_mismatches_fused = 0;
+  std::uint64_t wheel_gyro_mismatches_gated = 0;
 };
 
 class Ekf {
@@ -84,6 +86,14 @@ class Ekf {
   // The last merge's test ratio (its innovation's squared Mahalanobis norm, 3 dof or 2 across the
   // ray), gated or not; -1 when it did not get that far.
   [[nodiscard]] double last_merge_test_ratio() const { return merge_test_ratio_; }
+
+  // The gyro's turn less the wheels' over an increment, z = b dt - c d + noise
+  // (EkfConfig::wheel_drift_state): a scalar update of the gyro bias and drift states, gated at
+  // gate_chi2 (none when not above 0). kFused, kGate, kNonFinite, kNotPositiveDefinite or
+  // kInvalidSlot (no drift state, or no intervals: nothing changed).
+  ObservationResult fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGyroMismatch& m,
+                                             double gate_chi2);
+  [[nodiscard]] double last_mismatch_test_ratio() const { return mismatch_test_ratio_; }
 
   // Per-observation gates (3-D and pixel), then one batch Joseph-form update of the survivors (eq.
   // 25-27). With a step budget (set_update_step) the update may return still pending: the status
@@ -127,6 +137,12 @@ class Ekf {
   [[nodiscard]] double distance_scale_variance() const {
     return first_slot_ > 0 ? P_(kScaleRow, kScaleRow) : 0.0;
   }
+  // The wheels' drift per metre state (rad/m) and its variance; 0 without
+  // EkfConfig::wheel_drift_state.
+  [[nodiscard]] double wheel_drift() const { return first_slot_ > 0 ? x_(kDriftRow) : 0.0; }
+  [[nodiscard]] double wheel_drift_variance() const {
+    return first_slot_ > 0 ? P_(kDriftRow, kDriftRow) : 0.0;
+  }
   [[nodiscard]] Matrix6d pose_covariance() const { return P_.topLeftCorner<6, 6>(); }
   [[nodiscard]] bool slot_used(int slot) const;
   // Std. dev. of the landmark's depth relative to the camera, along the camera-landmark line,
@@ -162,6 +178,7 @@ class Ekf {
   // error states: its first row holds the gyro bias, its second the distance scale.
   static constexpr int kBiasRow = hal::kPoseDim;
   static constexpr int kScaleRow = hal::kPoseDim + 1;
+  static constexpr int kDriftRow = hal::kPoseDim + 2;
   [[nodiscard]] bool valid_used_slot(int slot) const;
   // Unit vector from the camera to the landmark and its length; false for an unused slot.
   bool ray_to(int slot, Eigen::Vector3d& u, double& depth) const;
@@ -241,6 +258,7 @@ class Ekf {
   UpdateStatus status_;
   EkfCounters counters_;
   double merge_test_ratio_ = -1.0;
+  double mismatch_test_ratio_ = -1.0;
 };
 
 }  // namespace cleanslam::slam_core

@@ -1,0 +1,165 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <Eigen/Dense>
+
+#include "cleanslam/slam_core/ekf.hpp"
+#include "symmetric_eigen.hpp"
+
+// The wheel drift state and Ekf::fuse_wheel_gyro_mismatch: z = b dt - c d + noise.
+namespace cs = cleanslam::slam_core;
+namespace hal = cleanslam::hal;
+
+namespace {
+
+constexpr double kBiasStd = 0.005;
+constexpr double kDriftStd = 0.5;
+constexpr int kBias = hal::kPoseDim;
+constexpr int kDrift = hal::kPoseDim + 2;
+
+cs::EkfConfig drift_config(bool invariant_reset) {
+  cs::EkfConfig c;
+  c.gyro_bias_state = true;
+  c.gyro_bias_walk = 0.0005;
+  c.wheel_drift_state = true;
+  c.wheel_drift_std_rad_per_m = kDriftStd;
+  c.invariant_reset = invariant_reset;
+  return c;
+}
+
+hal::Calibration calibration() {
+  hal::Calibration cal;
+  cal.gyro.bias_instability = kBiasStd;
+  return cal;
+}
+
+// A filter with a landmark and two increments that correlate pose, bias and drift with it.
+void prepare(cs::Ekf& ekf) {
+  cs::Vector6d pose;
+  pose << 0.3, -0.2, 0.1, 0.0, 0.0, 0.4;
+  ekf.reset(pose, cs::Matrix6d::Identity() * 1e-4);
+  ASSERT_GE(ekf.initialize_landmark(150.0, 110.0, 2.0, 0.3), 1);
+  for (int k = 0; k < 2; ++k) {
+    cs::OdometryIncrement u;
+    u.dx_c = Eigen::Vector3d(0.0, 0.0, 0.1);
+    u.dpsi_c = Eigen::Vector3d(0.0, -0.05, 0.0);
+    u.Q.diagonal() << 1e-4, 1e-5, 1e-4, 1e-6, 1e-5, 1e-6;
+    u.du_dbias << 0.0, 0.0, 0.0, 0.0, -0.5, 0.0;
+    u.du_ddrift << 0.002, 0.0, 0.0, 0.0, 0.07, 0.0;
+    u.dt_s = 0.5;
+    ASSERT_TRUE(ekf.predict(u).applied());
+  }
+}
+
+cs::OdometryIncrement::WheelGyroMismatch mismatch(double z, double dt, double d, double var) {
+  cs::OdometryIncrement::WheelGyroMismatch m;
+  m.z = z;
+  m.dt = dt;
+  m.distance = d;
+  m.variance = var;
+  m.intervals = 10;
+  return m;
+}
+
+double asymmetry(const Eigen::MatrixXd& P) {
+  double worst = 0.0;
+  for (Eigen::Index i = 0; i < P.rows(); ++i) {
+    for (Eigen::Index j = 0; j < P.cols(); ++j) {
+      worst = std::max(worst, std::abs(P(i, j) - P(j, i)));
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST(EkfWheelDrift, OneMismatchIsTheDenseKalmanUpdate) {
+  cs::Ekf ekf(calibration(), drift_config(false));
+  prepare(ekf);
+  const int n = hal::kPoseDim + 2 * hal::kLandmarkDim;
+  const Eigen::VectorXd x = ekf.state().head(n);
+  const Eigen::MatrixXd P = ekf.covariance().topLeftCorner(n, n);
+  ASSERT_GT(P.block(0, kDrift, 6, 1).norm(), 1e-6);  // the pose is correlated with the drift
+  Eigen::RowVectorXd H = Eigen::RowVectorXd::Zero(n);
+  H(kBias) = 0.5;
+  H(kDrift) = -0.08;
+  const double R = 2e-4;
+  const double z = 0.01;
+  const double S = (H * P * H.transpose())(0, 0) + R;
+  const Eigen::VectorXd K = P * H.transpose() / S;
+  const Eigen::VectorXd x_ref = x + K * (z - (H * x)(0, 0));
+  const Eigen::MatrixXd P_ref = P - K * S * K.transpose();
+  ASSERT_EQ(ekf.fuse_wheel_gyro_mismatch(mismatch(z, 0.5, 0.08, R), 16.0),
+            cs::ObservationResult::kFused);
+  EXPECT_NEAR(ekf.last_mismatch_test_ratio(), (z - (H * x)(0, 0)) * (z - (H * x)(0, 0)) / S, 1e-12);
+  EXPECT_LT((ekf.state().head(n) - x_ref).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((ekf.covariance().topLeftCorner(n, n) - P_ref).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_GT((ekf.state().head(6) - x.head(6)).norm(), 1e-6);  // through its correlation with c
+  EXPECT_EQ(ekf.counters().wheel_gyro_mismatches_fused, 1U);
+}
+
+TEST(EkfWheelDrift, MismatchesLearnTheBiasAndTheDriftWithHonestVariances) {
+  constexpr double kTrueBias = 0.006;
+  constexpr double kTrueDrift = -0.14;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::uniform_real_distribution<double> speed(0.0, 0.2);
+  double nees = 0.0;
+  constexpr int kRuns = 20;
+  for (int run = 0; run < kRuns; ++run) {
+    cs::Ekf ekf(calibration(), drift_config(true));
+    prepare(ekf);
+    for (int k = 0; k < 2000; ++k) {
+      const double dt = 0.5;
+      const double d = (k % 5 == 0 ? 0.0 : speed(rng)) * dt;  // pauses tell b from c
+      const double var = 0.05 * 0.05 * dt + 0.3 * 0.3 * d * d / 0.235;
+      const double z = kTrueBias * dt - kTrueDrift * d + std::sqrt(var) * noise(rng);
+      ASSERT_NE(ekf.fuse_wheel_gyro_mismatch(mismatch(z, dt, d, var), 0.0),
+                cs::ObservationResult::kInvalidSlot);
+    }
+    const Eigen::MatrixXd P = ekf.covariance().topLeftCorner(hal::kPoseDim + 6, hal::kPoseDim + 6);
+    EXPECT_LT(asymmetry(P), 1e-15);
+    EXPECT_GT(cleanslam::test::min_eigenvalue(P), -1e-15);
+    EXPECT_LT(std::sqrt(ekf.wheel_drift_variance()), 0.1 * kDriftStd);
+    Eigen::Vector2d e(ekf.gyro_bias() - kTrueBias, ekf.wheel_drift() - kTrueDrift);
+    Eigen::Matrix2d Pe;
+    Pe << P(kBias, kBias), P(kBias, kDrift), P(kDrift, kBias), P(kDrift, kDrift);
+    nees += e.dot(Pe.inverse() * e) / kRuns;
+  }
+  // Two degrees of freedom: 2 on average; the 99 % band for the mean of 20 runs is about [1.2, 3].
+  EXPECT_GT(nees, 1.0);
+  EXPECT_LT(nees, 3.2);
+}
+
+TEST(EkfWheelDrift, AnOutlierIsGatedAndBadInputRejectedWithNothingChanged) {
+  cs::Ekf ekf(calibration(), drift_config(true));
+  prepare(ekf);
+  const Eigen::VectorXd x = ekf.state();
+  const Eigen::MatrixXd P = ekf.covariance();
+  EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(mismatch(1.0, 0.5, 0.08, 1e-4), 16.0),
+            cs::ObservationResult::kGate);
+  EXPECT_GT(ekf.last_mismatch_test_ratio(), 16.0);
+  EXPECT_EQ(ekf.counters().wheel_gyro_mismatches_gated, 1U);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(mismatch(nan, 0.5, 0.08, 1e-4), 16.0),
+            cs::ObservationResult::kNonFinite);
+  EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(mismatch(0.0, 0.5, 0.08, -1e-4), 16.0),
+            cs::ObservationResult::kNonFinite);
+  EXPECT_EQ(ekf.counters().rejections[cs::ObservationResult::kNonFinite], 2U);
+  cs::OdometryIncrement::WheelGyroMismatch none = mismatch(0.0, 0.5, 0.08, 1e-4);
+  none.intervals = 0;
+  EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(none, 16.0), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf.state(), x);
+  EXPECT_EQ(ekf.covariance(), P);
+  EXPECT_EQ(ekf.counters().wheel_gyro_mismatches_fused, 0U);
+
+  cs::EkfConfig no_drift = drift_config(true);
+  no_drift.wheel_drift_state = false;
+  cs::Ekf plain(calibration(), no_drift);
+  EXPECT_EQ(plain.fuse_wheel_gyro_mismatch(mismatch(0.0, 0.5, 0.08, 1e-4), 16.0),
+            cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(plain.wheel_drift_variance(), 0.0);
+}
