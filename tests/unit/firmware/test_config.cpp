@@ -54,6 +54,7 @@ TEST(Config, TheCheapOdometryProfileLoadsAndTurnsOnItsMechanisms) {
   expected.filter.second_order_yaw = true;
   expected.filter.remap_merge_across_ray = true;
   expected.filter.wheel_drift_state = true;
+  expected.filter.remap_pixel_std_px = 50.0;
   EXPECT_EQ(config_text(r.config), config_text(expected));
 }
 
