@@ -143,6 +143,8 @@ void SlamEstimator::predict(hal::TimeNs t_ns, bool /*gyro_ok: the dead reckoner 
     const slam_core::OdometryIncrement u = dr_.take_increment(t_ns);
     ekf_.predict(u);
     if (config_.filter.wheel_drift_state) {
+      // Every increment: fused window by window instead, the same information costs 0.27 m of
+      // ATE on sparse seeds 1-40 (standard error 0.12 m).
       ekf_.fuse_wheel_gyro_mismatch(u.wheel_gyro_mismatch, config_.filter.wheel_yaw_gate_chi2);
       share_wheel_state();
     }

@@ -261,12 +261,7 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
       gyro_weight = sf.gyro_weight;
       drift_weight = sf.drift_weight;
       if (sf.fused) {
-        OdometryIncrement::WheelGyroMismatch& m = inc_.mismatch;
-        m.z += sf.mismatch;
-        m.dt += r.dt;
-        m.distance += r.distance;
-        m.variance += sf.mismatch_variance;
-        ++m.intervals;
+        inc_.mismatch.add(sf.mismatch, r.dt, r.distance, sf.mismatch_variance);
       }
     }
     const WheelYawFusion::Fused f = wheel_yaw_.fuse(r);

@@ -1,10 +1,15 @@
+#include <algorithm>
 #include <cmath>
+
+#include <Eigen/Eigenvalues>
 
 #include "cleanslam/slam_core/ekf.hpp"
 
 namespace cleanslam::slam_core {
 
-// z = b dt - c d: H has two entries, the bias row (dt) and the drift row (-d), so P H^T is a sum
+// The window's information about e = (b, c), A = sum h h^T / r and y = sum h z / r, is that of
+// two unit-variance measurements along A's eigenvectors v: sqrt(l) v^T e = v^T y / sqrt(l). Each
+// is a scalar update whose H has two entries, the bias row and the drift row, so P H^T is a sum
 // of two columns. The update is exactly linear; it moves the pose and the map only through their
 // correlations with b and c.
 ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGyroMismatch& m,
@@ -14,41 +19,57 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
   if (!config_.wheel_drift_state || !config_.gyro_bias_state || m.intervals <= 0) {
     return ObservationResult::kInvalidSlot;
   }
-  if (!std::isfinite(m.z) || !std::isfinite(m.dt) || !std::isfinite(m.distance) ||
-      !std::isfinite(m.variance) || !(m.variance >= 0.0)) {
+  const Eigen::Matrix2d A = 0.5 * (m.information + m.information.transpose());
+  if (!A.allFinite() || !m.information_vector.allFinite() || A(0, 0) < 0.0 || A(1, 1) < 0.0) {
     counters_.rejections.add(ObservationResult::kNonFinite);
     return ObservationResult::kNonFinite;
   }
-  const int n = active_dim_;
-  auto PHt = PHt_.col(0).head(n);
-  PHt = m.dt * P_.col(kBiasRow).head(n) - m.distance * P_.col(kDriftRow).head(n);
-  const double S = m.dt * PHt(kBiasRow) - m.distance * PHt(kDriftRow) + m.variance;
-  if (!(S > 0.0)) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(A);
+  const double largest = eig.eigenvalues()(1);
+  if (!(largest > 0.0)) {
     return ObservationResult::kNotPositiveDefinite;
   }
-  const double nu = m.z - (m.dt * x_(kBiasRow) - m.distance * x_(kDriftRow));
-  mismatch_test_ratio_ = nu * nu / S;
-  if (gate_chi2 > 0.0 && !(mismatch_test_ratio_ <= gate_chi2)) {
+  const int n = active_dim_;
+  bool fused = false;
+  for (int i = 1; i >= 0; --i) {
+    const double l = eig.eigenvalues()(i);
+    if (!(l > 1e-12 * largest)) {
+      continue;
+    }
+    const Eigen::Vector2d h = std::sqrt(l) * eig.eigenvectors().col(i);
+    const double z = eig.eigenvectors().col(i).dot(m.information_vector) / std::sqrt(l);
+    auto PHt = PHt_.col(0).head(n);
+    PHt = h(0) * P_.col(kBiasRow).head(n) + h(1) * P_.col(kDriftRow).head(n);
+    const double S = h(0) * PHt(kBiasRow) + h(1) * PHt(kDriftRow) + 1.0;
+    const double nu = z - (h(0) * x_(kBiasRow) + h(1) * x_(kDriftRow));
+    const double ratio = nu * nu / S;
+    mismatch_test_ratio_ = std::max(mismatch_test_ratio_, ratio);
+    if (gate_chi2 > 0.0 && !(ratio <= gate_chi2)) {
+      continue;
+    }
+    auto K = W_.col(0).head(n);
+    K = PHt / S;
+    if (config_.invariant_reset) {
+      dx_.resize(n);
+      dx_ = K * nu;
+    }
+    x_.head(n) += K * nu;
+    x_(3) = wrap_angle(x_(3));
+    x_(5) = wrap_angle(x_(5));
+    for (int j = 0; j < n; ++j) {
+      P_.col(j).segment(j, n - j) -= K.segment(j, n - j) * PHt(j);
+      P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
+    }
+    if (config_.invariant_reset) {
+      begin_invariant_reset(n, dx_.head(n));
+      invariant_reset_columns(0, n);
+      dx_.resize(kMaxStateDim);
+    }
+    fused = true;
+  }
+  if (!fused) {
     ++counters_.wheel_gyro_mismatches_gated;
     return ObservationResult::kGate;
-  }
-  auto K = W_.col(0).head(n);
-  K = PHt / S;
-  if (config_.invariant_reset) {
-    dx_.resize(n);
-    dx_ = K * nu;
-  }
-  x_.head(n) += K * nu;
-  x_(3) = wrap_angle(x_(3));
-  x_(5) = wrap_angle(x_(5));
-  for (int j = 0; j < n; ++j) {
-    P_.col(j).segment(j, n - j) -= K.segment(j, n - j) * PHt(j);
-    P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
-  }
-  if (config_.invariant_reset) {
-    begin_invariant_reset(n, dx_.head(n));
-    invariant_reset_columns(0, n);
-    dx_.resize(kMaxStateDim);
   }
   ++counters_.wheel_gyro_mismatches_fused;
   return ObservationResult::kFused;

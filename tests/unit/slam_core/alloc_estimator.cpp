@@ -109,11 +109,8 @@ struct EkfRun {
       ekf->predict(u);
       if (ekf->config().wheel_drift_state) {
         cs::OdometryIncrement::WheelGyroMismatch mm;
-        mm.z = 0.003 * (step % 3 == 0 ? 1.0 : -1.0);
-        mm.dt = 0.5;
-        mm.distance = 0.05;
-        mm.variance = 2e-3;
-        mm.intervals = 10;
+        mm.add(0.003 * (step % 3 == 0 ? 1.0 : -1.0), 0.05, 0.005, 2e-4);
+        mm.add(0.001, 0.05, 0.0, 1e-4);
         ekf->fuse_wheel_gyro_mismatch(mm, 16.0);
       }
       // New landmarks every step: the pool fills and then recycles its least useful slots.

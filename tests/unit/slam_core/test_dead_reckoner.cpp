@@ -583,11 +583,16 @@ TEST(DeadReckoner, WheelGyroMismatchIsTheBiasTimeLessTheDriftDistance) {
   const cs::OdometryIncrement u = increment_with_wheel_drift(cal, kE, kBias);
   const cs::OdometryIncrement::WheelGyroMismatch& m = u.wheel_gyro_mismatch;
   ASSERT_EQ(m.intervals, 40);
-  EXPECT_NEAR(m.dt, 2.0, 1e-9);
-  EXPECT_NEAR(m.distance, u.distance_m, 0.01);  // the take extrapolated 30 ms past the wheels
-  EXPECT_NEAR(m.z, kBias * m.dt - c * m.distance, 2e-3) << m.z;
-  EXPECT_GT(std::abs(c * m.distance), 0.05);
-  // The gyro's and the wheels' noise over 40 intervals.
-  EXPECT_GT(m.variance, 0.05 * 0.05 * 2.0);
-  EXPECT_LT(m.variance, 2.0 * 0.05 * 0.05 * 2.0 + 0.3 * 0.3 * 2.0 * 0.45 * 0.45);
+  // The information-weighted residual sum h (z - h^T e) / r vanishes at the truth e = (b, c).
+  const Eigen::Vector2d truth(kBias, c);
+  const Eigen::Vector2d at_truth = m.information_vector - m.information * truth;
+  EXPECT_LT(at_truth.norm(), 0.02 * m.information_vector.norm())
+      << at_truth.transpose() << " / " << m.information_vector.transpose();
+  const Eigen::Vector2d other(kBias, 0.0);
+  EXPECT_GT((m.information_vector - m.information * other).norm(),
+            0.3 * m.information_vector.norm());
+  // 40 intervals of 0.05 s: the bias's information is sum dt^2 / r with r at least the gyro's
+  // noise over an interval.
+  EXPECT_GT(m.information(0, 0), 0.0);
+  EXPECT_LT(m.information(0, 0), 40.0 * 0.05 * 0.05 / (0.05 * 0.05 * 0.05));
 }

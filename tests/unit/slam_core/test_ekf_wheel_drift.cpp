@@ -56,11 +56,7 @@ void prepare(cs::Ekf& ekf) {
 
 cs::OdometryIncrement::WheelGyroMismatch mismatch(double z, double dt, double d, double var) {
   cs::OdometryIncrement::WheelGyroMismatch m;
-  m.z = z;
-  m.dt = dt;
-  m.distance = d;
-  m.variance = var;
-  m.intervals = 10;
+  m.add(z, dt, d, var);
   return m;
 }
 
@@ -101,6 +97,45 @@ TEST(EkfWheelDrift, OneMismatchIsTheDenseKalmanUpdate) {
   EXPECT_EQ(ekf.counters().wheel_gyro_mismatches_fused, 1U);
 }
 
+// A window of intervals is fused as the information it holds about (b, c): the same as the
+// batch update with one row per interval.
+TEST(EkfWheelDrift, AWindowIsTheDenseBatchUpdateOfItsIntervals) {
+  cs::Ekf ekf(calibration(), drift_config(false));
+  prepare(ekf);
+  const int n = hal::kPoseDim + 2 * hal::kLandmarkDim;
+  const Eigen::VectorXd x = ekf.state().head(n);
+  const Eigen::MatrixXd P = ekf.covariance().topLeftCorner(n, n);
+  constexpr int kRows = 6;
+  const double d[kRows] = {0.0, 0.008, 0.01, 0.0, 0.007, 0.002};
+  const double z[kRows] = {0.002, -0.001, 0.003, 0.0005, 0.0, 0.001};
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(kRows, n);
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(kRows, kRows);
+  Eigen::VectorXd zz(kRows);
+  cs::OdometryIncrement::WheelGyroMismatch m;
+  for (int k = 0; k < kRows; ++k) {
+    const double var = 1.25e-4 + 2e-3 * d[k] * d[k];
+    H(k, kBias) = 0.05;
+    H(k, kDrift) = -d[k];
+    R(k, k) = var;
+    zz(k) = z[k];
+    m.add(z[k], 0.05, d[k], var);
+  }
+  ASSERT_EQ(m.intervals, kRows);
+  const Eigen::MatrixXd S = H * P * H.transpose() + R;
+  const Eigen::MatrixXd K = P * H.transpose() * S.inverse();
+  const Eigen::VectorXd predicted = H * x;
+  Eigen::VectorXd innovation(kRows);
+  for (int k = 0; k < kRows; ++k) {  // a loop: GCC's -Wnull-dereference flags the expression
+    innovation(k) = zz(k) - predicted(k);
+  }
+  const Eigen::VectorXd x_ref = x + K * innovation;
+  const Eigen::MatrixXd P_ref = P - K * S * K.transpose();
+  ASSERT_EQ(ekf.fuse_wheel_gyro_mismatch(m, 16.0), cs::ObservationResult::kFused);
+  EXPECT_LT((ekf.state().head(n) - x_ref).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LT((ekf.covariance().topLeftCorner(n, n) - P_ref).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LT(ekf.wheel_drift_variance(), P(kDrift, kDrift));
+}
+
 TEST(EkfWheelDrift, MismatchesLearnTheBiasAndTheDriftWithHonestVariances) {
   constexpr double kTrueBias = 0.006;
   constexpr double kTrueDrift = -0.14;
@@ -117,8 +152,8 @@ TEST(EkfWheelDrift, MismatchesLearnTheBiasAndTheDriftWithHonestVariances) {
       const double d = (k % 5 == 0 ? 0.0 : speed(rng)) * dt;  // pauses tell b from c
       const double var = 0.05 * 0.05 * dt + 0.3 * 0.3 * d * d / 0.235;
       const double z = kTrueBias * dt - kTrueDrift * d + std::sqrt(var) * noise(rng);
-      ASSERT_NE(ekf.fuse_wheel_gyro_mismatch(mismatch(z, dt, d, var), 0.0),
-                cs::ObservationResult::kInvalidSlot);
+      ASSERT_EQ(ekf.fuse_wheel_gyro_mismatch(mismatch(z, dt, d, var), 0.0),
+                cs::ObservationResult::kFused);
     }
     const Eigen::MatrixXd P = ekf.covariance().topLeftCorner(hal::kPoseDim + 6, hal::kPoseDim + 6);
     EXPECT_LT(asymmetry(P), 1e-15);
@@ -144,13 +179,17 @@ TEST(EkfWheelDrift, AnOutlierIsGatedAndBadInputRejectedWithNothingChanged) {
   EXPECT_GT(ekf.last_mismatch_test_ratio(), 16.0);
   EXPECT_EQ(ekf.counters().wheel_gyro_mismatches_gated, 1U);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(mismatch(nan, 0.5, 0.08, 1e-4), 16.0),
-            cs::ObservationResult::kNonFinite);
-  EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(mismatch(0.0, 0.5, 0.08, -1e-4), 16.0),
-            cs::ObservationResult::kNonFinite);
+  cs::OdometryIncrement::WheelGyroMismatch bad = mismatch(0.0, 0.5, 0.08, 1e-4);
+  bad.information_vector(1) = nan;
+  EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(bad, 16.0), cs::ObservationResult::kNonFinite);
+  bad = mismatch(0.0, 0.5, 0.08, 1e-4);
+  bad.information(1, 1) = -1.0;
+  EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(bad, 16.0), cs::ObservationResult::kNonFinite);
   EXPECT_EQ(ekf.counters().rejections[cs::ObservationResult::kNonFinite], 2U);
-  cs::OdometryIncrement::WheelGyroMismatch none = mismatch(0.0, 0.5, 0.08, 1e-4);
-  none.intervals = 0;
+  // An interval with no variance holds no information and is not counted.
+  EXPECT_EQ(mismatch(0.0, 0.5, 0.08, 0.0).intervals, 0);
+  EXPECT_EQ(mismatch(0.0, 0.5, 0.08, nan).intervals, 0);
+  const cs::OdometryIncrement::WheelGyroMismatch none;
   EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(none, 16.0), cs::ObservationResult::kInvalidSlot);
   EXPECT_EQ(ekf.state(), x);
   EXPECT_EQ(ekf.covariance(), P);

@@ -20,16 +20,29 @@ struct OdometryIncrement {
   // (wheel_yaw_fusion.hpp) when the dead reckoner leaves c to the filter
   // (EkfConfig::wheel_drift_state): the fused heading counts the wheels' turn less c d.
   Eigen::Matrix<double, 6, 1> du_ddrift = Eigen::Matrix<double, 6, 1>::Zero();
-  // The gyro's turn less the wheels' over the increment's fused encoder intervals, with the dead
-  // reckoner's bias and the wheels' heading scale applied: z = b dt - c distance + noise of
-  // variance `variance` (the gyro's and the wheels' noise). With inverse-variance weights the
-  // fused turn and this difference are independent, so the filter may use both.
+  // The gyro's turn less the wheels' in each fused encoder interval, with the dead reckoner's
+  // bias and the wheels' heading scale applied: z = b dt - c d + noise of variance r, i.e.
+  // z = h^T (b, c) with h = (dt, -d). Kept as the information the intervals hold about (b, c),
+  // sum h h^T / r and sum h z / r: a window of them is worth the intervals one by one. With
+  // inverse-variance weights the fused turn and z are independent, so the filter may use both.
   struct WheelGyroMismatch {
-    double z = 0.0;
-    double dt = 0.0;
-    double distance = 0.0;  // signed
-    double variance = 0.0;
+    Eigen::Matrix2d information = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d information_vector = Eigen::Vector2d::Zero();
     int intervals = 0;
+    void add(double z, double dt, double distance, double variance) {
+      if (!(variance > 0.0)) {
+        return;
+      }
+      const Eigen::Vector2d h(dt, -distance);
+      information += h * h.transpose() / variance;
+      information_vector += h * (z / variance);
+      ++intervals;
+    }
+    void add(const WheelGyroMismatch& other) {
+      information += other.information;
+      information_vector += other.information_vector;
+      intervals += other.intervals;
+    }
   } wheel_gyro_mismatch;
   double distance_m = 0.0;  // travelled by the body (unsigned)
   double dt_s = 0.0;
