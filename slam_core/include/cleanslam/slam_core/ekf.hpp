@@ -87,10 +87,12 @@ class Ekf {
   // ray), gated or not; -1 when it did not get that far.
   [[nodiscard]] double last_merge_test_ratio() const { return merge_test_ratio_; }
 
-  // The gyro's turn less the wheels' over an increment, z = b dt - c d + noise
-  // (EkfConfig::wheel_drift_state): a scalar update of the gyro bias and drift states, gated at
-  // gate_chi2 (none when not above 0). kFused, kGate, kNonFinite, kNotPositiveDefinite or
-  // kInvalidSlot (no drift state, or no intervals: nothing changed).
+  // The gyro's turn less the wheels' in an increment's intervals, z = b dt - c d + noise, as their
+  // information about (b, c) (EkfConfig::wheel_drift_state): at most two scalar updates of the
+  // whole state along the information's eigenvectors, each gated at gate_chi2 (none when not
+  // above 0). kFused when any passed; kGate (counted) when none did; kNonFinite,
+  // kNotPositiveDefinite or kInvalidSlot (no drift or bias state, or no intervals): nothing
+  // changed. The test ratio is the larger of the two.
   ObservationResult fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGyroMismatch& m,
                                              double gate_chi2);
   [[nodiscard]] double last_mismatch_test_ratio() const { return mismatch_test_ratio_; }
