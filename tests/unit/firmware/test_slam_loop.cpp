@@ -81,6 +81,22 @@ struct SimulatedRun {
   }
 };
 
+// What print_summary writes at the end of a run; empty when no temporary file could be made.
+std::string summary_text(const Loop& loop) {
+  std::FILE* f = std::tmpfile();
+  if (f == nullptr) {
+    return {};
+  }
+  firmware::print_summary(loop, f);
+  std::rewind(f);
+  std::string text;
+  for (int ch = std::fgetc(f); ch != EOF; ch = std::fgetc(f)) {
+    text.push_back(static_cast<char>(ch));
+  }
+  std::fclose(f);
+  return text;
+}
+
 TEST(SlamLoop, NoHeapAllocationAfterStartupWithTheEkf) {
   SimulatedRun run(60.0);
   ASSERT_TRUE(run.ok);
@@ -157,15 +173,8 @@ TEST(SlamLoop, SummaryCountsTheMapsChanges) {
   const auto& c = estimator.ekf().counters();
   ASSERT_GT(c.landmarks_initialized, 8U);
   ASSERT_GT(c.landmarks_replaced, 0U);
-  std::FILE* f = std::tmpfile();
-  ASSERT_NE(f, nullptr);
-  firmware::print_summary(loop, f);
-  std::rewind(f);
-  std::string text;
-  for (int ch = std::fgetc(f); ch != EOF; ch = std::fgetc(f)) {
-    text.push_back(static_cast<char>(ch));
-  }
-  std::fclose(f);
+  const std::string text = summary_text(loop);
+  ASSERT_FALSE(text.empty());
   const std::string line = "cleanslam: map: " + std::to_string(c.landmarks_initialized) +
                            " landmarks initialized, " + std::to_string(c.landmarks_replaced) +
                            " replaced, " + std::to_string(c.landmarks_deleted) + " deleted, " +
@@ -203,15 +212,8 @@ TEST(SlamLoop, WheelDriftStateLearnsFromEveryPredictionAndIsSummarized) {
   EXPECT_GT(w.mismatches_fused, 400U);  // 20 Hz encoder intervals over 30 s, in the increments
   EXPECT_LT(w.state_drift_std, 0.5 * config.filter.wheel_yaw_drift_std_rad_per_m);
   EXPECT_TRUE(std::isfinite(w.state_drift_rad_per_m));
-  std::FILE* f = std::tmpfile();
-  ASSERT_NE(f, nullptr);
-  firmware::print_summary(loop, f);
-  std::rewind(f);
-  std::string text;
-  for (int ch = std::fgetc(f); ch != EOF; ch = std::fgetc(f)) {
-    text.push_back(static_cast<char>(ch));
-  }
-  std::fclose(f);
+  const std::string text = summary_text(loop);
+  ASSERT_FALSE(text.empty());
   const std::string counts = std::to_string(w.mismatches_fused) + " turn differences fused, " +
                              std::to_string(w.mismatches_gated) + " gated\n";
   EXPECT_NE(text.find("cleanslam: wheel drift state: "), std::string::npos) << text;

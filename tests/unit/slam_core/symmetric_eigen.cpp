@@ -1,5 +1,8 @@
 #include "symmetric_eigen.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include <Eigen/Eigenvalues>
 
 namespace cleanslam::test {
@@ -13,6 +16,16 @@ double min_eigenvalue(const Eigen::MatrixXd& symmetric) {
   return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(symmetric, Eigen::EigenvaluesOnly)
       .eigenvalues()
       .minCoeff();
+}
+
+double asymmetry(const Eigen::MatrixXd& P) {
+  double worst = 0.0;
+  for (Eigen::Index i = 0; i < P.rows(); ++i) {
+    for (Eigen::Index j = 0; j < P.cols(); ++j) {
+      worst = std::max(worst, std::abs(P(i, j) - P(j, i)));
+    }
+  }
+  return worst;
 }
 
 }  // namespace cleanslam::test

@@ -16,4 +16,7 @@ SymmetricEigen symmetric_eigen(const Eigen::MatrixXd& symmetric);
 
 double min_eigenvalue(const Eigen::MatrixXd& symmetric);
 
+// max |P - P^T|, in loops: armhf GCC's -Wnull-dereference flags the Eigen expression.
+double asymmetry(const Eigen::MatrixXd& P);
+
 }  // namespace cleanslam::test

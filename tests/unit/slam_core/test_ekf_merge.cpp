@@ -13,17 +13,6 @@ namespace hal = cleanslam::hal;
 
 namespace {
 
-// max |P - P^T|, in loops: armhf GCC's -Wnull-dereference flags the Eigen expression here.
-double asymmetry(const Eigen::MatrixXd& P) {
-  double worst = 0.0;
-  for (Eigen::Index i = 0; i < P.rows(); ++i) {
-    for (Eigen::Index j = 0; j < P.cols(); ++j) {
-      worst = std::max(worst, std::abs(P(i, j) - P(j, i)));
-    }
-  }
-  return worst;
-}
-
 // x_after, P_after equal x_ref, P_ref outside the dropped slot's rows and columns [d, d + 3).
 void expect_equal_outside(const Eigen::VectorXd& x_after, const Eigen::MatrixXd& P_after,
                           const Eigen::VectorXd& x_ref, const Eigen::MatrixXd& P_ref, int d) {
@@ -147,7 +136,7 @@ TEST_F(EkfMergeTest, EqualsTheDenseKalmanUpdateAndFreesTheDroppedSlot) {
           << i << "," << j;
     }
   }
-  EXPECT_EQ(asymmetry(P_after), 0.0);
+  EXPECT_EQ(cleanslam::test::asymmetry(P_after), 0.0);
   EXPECT_GE(cleanslam::test::min_eigenvalue(P_after), -1e-12);
   // The kept landmark now has the smaller uncertainty of the two along the dropped one's ray.
   const int k = 6 + 3 * keep;
@@ -176,7 +165,7 @@ TEST_F(EkfMergeTest, TwoDifferentPointsAreGatedAndNothingChanges) {
   EXPECT_TRUE(ekf_.state().allFinite());
   const int n = ekf_.active_dim();
   const Eigen::MatrixXd P2 = ekf_.covariance().topLeftCorner(n, n);
-  EXPECT_EQ(asymmetry(P2), 0.0);
+  EXPECT_EQ(cleanslam::test::asymmetry(P2), 0.0);
   EXPECT_GE(cleanslam::test::min_eigenvalue(P2), -1e-12);
 }
 
@@ -237,7 +226,7 @@ TEST_F(EkfConsideredMergeTest, EqualsTheDenseSchmidtUpdateAndLeavesTheKeptEntryA
   EXPECT_GT((x_after.head<6>() - x.head<6>()).norm(), 1e-3);  // the robot is what moves
   const int d = 6 + 3 * drop;
   expect_equal_outside(x_after, P_after, x_ref, P_ref, d);
-  EXPECT_EQ(asymmetry(P_after), 0.0);
+  EXPECT_EQ(cleanslam::test::asymmetry(P_after), 0.0);
   EXPECT_GE(cleanslam::test::min_eigenvalue(P_after), -1e-12);
   Eigen::MatrixXd excess = P_after - P_opt;
   excess.middleRows<3>(d).setZero();
@@ -278,7 +267,7 @@ TEST_F(EkfAcrossRayMergeTest, EqualsTheDenseUpdateOfTheConstraintAcrossTheRay) {
   EXPECT_TRUE(x_after.segment<3>(k) == x.segment<3>(k));
   EXPECT_TRUE((P_after.block<3, 3>(k, k) == P.block<3, 3>(k, k)));
   expect_equal_outside(x_after, P_after, x_ref, P_ref, d);
-  EXPECT_EQ(asymmetry(P_after), 0.0);
+  EXPECT_EQ(cleanslam::test::asymmetry(P_after), 0.0);
   EXPECT_GE(cleanslam::test::min_eigenvalue(P_after), -1e-12);
   EXPECT_GT((x_after.head<6>() - x.head<6>()).norm(), 1e-4);
 }

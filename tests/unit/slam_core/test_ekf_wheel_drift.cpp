@@ -60,16 +60,6 @@ cs::OdometryIncrement::WheelGyroMismatch mismatch(double z, double dt, double d,
   return m;
 }
 
-double asymmetry(const Eigen::MatrixXd& P) {
-  double worst = 0.0;
-  for (Eigen::Index i = 0; i < P.rows(); ++i) {
-    for (Eigen::Index j = 0; j < P.cols(); ++j) {
-      worst = std::max(worst, std::abs(P(i, j) - P(j, i)));
-    }
-  }
-  return worst;
-}
-
 }  // namespace
 
 TEST(EkfWheelDrift, OneMismatchIsTheDenseKalmanUpdate) {
@@ -156,7 +146,7 @@ TEST(EkfWheelDrift, MismatchesLearnTheBiasAndTheDriftWithHonestVariances) {
                 cs::ObservationResult::kFused);
     }
     const Eigen::MatrixXd P = ekf.covariance().topLeftCorner(hal::kPoseDim + 6, hal::kPoseDim + 6);
-    EXPECT_LT(asymmetry(P), 1e-15);
+    EXPECT_LT(cleanslam::test::asymmetry(P), 1e-15);
     EXPECT_GT(cleanslam::test::min_eigenvalue(P), -1e-15);
     EXPECT_LT(std::sqrt(ekf.wheel_drift_variance()), 0.1 * kDriftStd);
     Eigen::Vector2d e(ekf.gyro_bias() - kTrueBias, ekf.wheel_drift() - kTrueDrift);
