@@ -13,14 +13,21 @@ WheelYawFusion::WheelYawFusion(const WheelYawFusionConfig& config, double bias_s
       config.drift_std_rad_per_m * config.drift_std_rad_per_m;
 }
 
+bool WheelYawFusion::usable(const Reading& r) {
+  return std::isfinite(r.gyro_yaw) && std::isfinite(r.gyro_var) && std::isfinite(r.wheel_yaw) &&
+         std::isfinite(r.wheel_var) && std::isfinite(r.distance) && std::isfinite(r.dt) &&
+         r.gyro_var >= 0.0 && r.wheel_var >= 0.0 && r.dt >= 0.0;
+}
+
+double WheelYawFusion::correlation_intervals(double dt) const {
+  return dt > 0.0 ? std::max(1.0, config_.calibration_correlation_time_s / dt) : 1.0;
+}
+
 WheelYawFusion::Fused WheelYawFusion::fuse(const Reading& r) {
   Fused gyro_only;
   gyro_only.yaw = r.gyro_yaw;
   gyro_only.variance = r.gyro_var;
-  const bool finite = std::isfinite(r.gyro_yaw) && std::isfinite(r.gyro_var) &&
-                      std::isfinite(r.wheel_yaw) && std::isfinite(r.wheel_var) &&
-                      std::isfinite(r.distance) && std::isfinite(r.dt);
-  if (!finite || !(r.gyro_var >= 0.0) || !(r.wheel_var >= 0.0) || !(r.dt >= 0.0)) {
+  if (!usable(r)) {
     ++counters_.intervals_rejected;
     return gyro_only;
   }
@@ -54,8 +61,7 @@ WheelYawFusion::Fused WheelYawFusion::fuse(const Reading& r) {
   // The calibration's error is the same in every interval: over correlation_time_s its share of
   // the heading error adds up linearly, not as independent draws (one interval's share times the
   // number of intervals, squared, in total).
-  const double intervals =
-      r.dt > 0.0 ? std::max(1.0, config_.calibration_correlation_time_s / r.dt) : 1.0;
+  const double intervals = correlation_intervals(r.dt);
   out.variance =
       out.gyro_weight * out.gyro_weight * r.gyro_var +
       wheel_weight * wheel_weight * (wheel_noise_var + intervals * (wheel_var - wheel_noise_var));
@@ -88,11 +94,8 @@ WheelYawFusion::StateFused WheelYawFusion::fused_for_state(const Reading& r,
   out.yaw = r.gyro_yaw;
   out.variance = r.gyro_var;
   out.gyro_weight = 1.0;
-  const bool finite = std::isfinite(r.gyro_yaw) && std::isfinite(r.gyro_var) &&
-                      std::isfinite(r.wheel_yaw) && std::isfinite(r.wheel_var) &&
-                      std::isfinite(r.distance) && std::isfinite(r.dt) && std::isfinite(e.bias) &&
-                      std::isfinite(e.drift) && e.bias_var >= 0.0 && e.drift_var >= 0.0;
-  if (!finite || !(r.gyro_var >= 0.0) || !(r.wheel_var >= 0.0) || !(r.dt >= 0.0)) {
+  if (!usable(r) || !std::isfinite(e.bias) || !std::isfinite(e.drift) || !(e.bias_var >= 0.0) ||
+      !(e.drift_var >= 0.0)) {
     return out;
   }
   const double s = p_(1);
@@ -111,8 +114,7 @@ WheelYawFusion::StateFused WheelYawFusion::fused_for_state(const Reading& r,
   const double wheel_weight = 1.0 - out.gyro_weight;
   out.yaw = out.gyro_weight * r.gyro_yaw + wheel_weight * wheel_ref;
   out.drift_weight = -wheel_weight * r.distance;
-  const double intervals =
-      r.dt > 0.0 ? std::max(1.0, config_.calibration_correlation_time_s / r.dt) : 1.0;
+  const double intervals = correlation_intervals(r.dt);
   out.variance = out.gyro_weight * out.gyro_weight * r.gyro_var +
                  wheel_weight * wheel_weight * (wheel_noise_var + intervals * scale_var);
   out.mismatch = r.gyro_yaw - wheel_ref;

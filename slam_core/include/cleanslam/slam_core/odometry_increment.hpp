@@ -38,11 +38,6 @@ struct OdometryIncrement {
       information_vector += h * (z / variance);
       ++intervals;
     }
-    void add(const WheelGyroMismatch& other) {
-      information += other.information;
-      information_vector += other.information_vector;
-      intervals += other.intervals;
-    }
   } wheel_gyro_mismatch;
   double distance_m = 0.0;  // travelled by the body (unsigned)
   double dt_s = 0.0;

@@ -95,6 +95,10 @@ class WheelYawFusion {
   [[nodiscard]] const WheelYawCounters& counters() const { return counters_; }
 
  private:
+  // Finite, with no negative variance or time.
+  [[nodiscard]] static bool usable(const Reading& r);
+  // How many intervals of dt the calibration's error is counted over (its correlation time).
+  [[nodiscard]] double correlation_intervals(double dt) const;
   // The open window's mismatch variance, given P_ times its regressor.
   [[nodiscard]] double window_variance(const Eigen::Vector3d& PH) const;
   [[nodiscard]] double window_test_ratio() const;
