@@ -280,6 +280,10 @@ void Loop::run_frame_steps() {
   const hal::log::UpdateRecord* records = nullptr;
   const int n = estimator_.update_records(records);
   for (int i = 0; i < n; ++i) {
+    const auto status = static_cast<std::size_t>(records[i].status);
+    if (status < stats_.records_by_status.size()) {
+      ++stats_.records_by_status[status];
+    }
     for (UpdateSink* sink : update_sinks_) {
       sink->update(records[i]);
     }

@@ -360,6 +360,16 @@ void print_summary(const Loop& loop, std::FILE* out) {
       static_cast<unsigned long long>(s.frames_done),
       static_cast<unsigned long long>(s.predictions), static_cast<unsigned long long>(s.poses),
       static_cast<unsigned long long>(s.update_records));
+  std::fputs("cleanslam: update records by status:", out);
+  const char* separator = "";
+  for (std::size_t i = 0; i < s.records_by_status.size(); ++i) {
+    if (s.records_by_status[i] > 0) {
+      std::fprintf(out, "%s %s %llu", separator, to_string(static_cast<hal::log::UpdateStatus>(i)),
+                   static_cast<unsigned long long>(s.records_by_status[i]));
+      separator = ",";
+    }
+  }
+  std::fputs(separator[0] == '\0' ? " none\n" : "\n", out);
   const MapCounters m = loop.estimator().map_counters();
   std::fprintf(
       out,
@@ -368,6 +378,16 @@ void print_summary(const Loop& loop, std::FILE* out) {
       static_cast<unsigned long long>(m.initialized), static_cast<unsigned long long>(m.replaced),
       static_cast<unsigned long long>(m.deleted), static_cast<unsigned long long>(m.merged),
       static_cast<unsigned long long>(m.merges_gated));
+  const ObservationRejections r = loop.estimator().observation_rejections();
+  if (r.count > 0) {
+    std::fputs("cleanslam: measurements not fused:", out);
+    for (int i = 0; i < r.count; ++i) {
+      const ObservationRejection& e = r.by_reason[static_cast<std::size_t>(i)];
+      std::fprintf(out, "%s %s %llu", i > 0 ? "," : "", e.reason,
+                   static_cast<unsigned long long>(e.count));
+    }
+    std::fputc('\n', out);
+  }
   WheelYawReport w;
   if (loop.estimator().wheel_yaw(w)) {
     std::fprintf(out,

@@ -159,6 +159,10 @@ const char* to_string(hal::log::UpdateStatus s) {
       return "merged";
     case hal::log::UpdateStatus::kMergeGated:
       return "merge_gated";
+    case hal::log::UpdateStatus::kDepthBound:
+      return "depth_bound";
+    case hal::log::UpdateStatus::kBehindCamera:
+      return "behind_camera";
   }
   return "?";
 }

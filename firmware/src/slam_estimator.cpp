@@ -16,6 +16,21 @@ namespace lf = hal::log;
 
 namespace {
 
+lf::UpdateStatus record_status(slam_core::ObservationResult r) {
+  switch (r) {
+    case slam_core::ObservationResult::kFused:
+      return lf::UpdateStatus::kUpdated;
+    case slam_core::ObservationResult::kGate:
+      return lf::UpdateStatus::kGated;
+    case slam_core::ObservationResult::kDepthBound:
+      return lf::UpdateStatus::kDepthBound;
+    case slam_core::ObservationResult::kBehindCamera:
+      return lf::UpdateStatus::kBehindCamera;
+    default:
+      return lf::UpdateStatus::kRejected;
+  }
+}
+
 slam_core::EkfConfig ekf_config(const FirmwareConfig& c) {
   slam_core::EkfConfig e;
   e.eps_ct_m = c.filter.eps_ct_m;
@@ -273,7 +288,10 @@ bool SlamEstimator::associate_features() {
       continue;
     }
     if (m >= kMaxObs || !ekf_.predict_pixel(slot, pp) || !pp.in_front) {
-      record(f, lf::UpdateStatus::kRejected, slot);
+      record(f,
+             m < kMaxObs && !pp.in_front ? lf::UpdateStatus::kBehindCamera
+                                         : lf::UpdateStatus::kRejected,
+             slot);
       continue;
     }
     obs_[static_cast<std::size_t>(m)] = slam_core::Observation{slot, f.u_px, f.v_px};
@@ -325,9 +343,7 @@ void SlamEstimator::record_features_update() {
       st = lf::UpdateStatus::kGated;  // JCBB
     } else if (jcbb_update && status != nullptr) {
       const auto& o = status->observations[static_cast<std::size_t>(next_inlier++)];
-      st = o.fused()                                         ? lf::UpdateStatus::kUpdated
-           : o.result == slam_core::ObservationResult::kGate ? lf::UpdateStatus::kGated
-                                                             : lf::UpdateStatus::kRejected;
+      st = record_status(o.result);
     }
     record(f, st, obs_[ui].slot);
     if (k == m) {
@@ -484,6 +500,19 @@ MapCounters SlamEstimator::map_counters() const {
   m.merged = c.landmarks_merged;
   m.merges_gated = c.merges_gated;
   return m;
+}
+
+ObservationRejections SlamEstimator::observation_rejections() const {
+  static_assert(slam_core::kObservationResultCount <= kMaxRejectionReasons);
+  const slam_core::RejectionCounters& c = ekf_.counters().rejections;
+  ObservationRejections out;
+  for (int i = 0; i < slam_core::kObservationResultCount; ++i) {
+    const auto r = static_cast<slam_core::ObservationResult>(i);
+    if (r != slam_core::ObservationResult::kFused && c[r] > 0) {
+      out.by_reason[static_cast<std::size_t>(out.count++)] = {slam_core::to_string(r), c[r]};
+    }
+  }
+  return out;
 }
 
 bool SlamEstimator::wheel_yaw(WheelYawReport& out) const {

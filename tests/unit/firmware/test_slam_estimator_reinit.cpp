@@ -48,7 +48,7 @@ TEST(SlamEstimatorReinit, ALandmarkLeftBehindTheCameraStartsAgainFromTheNewRay) 
       EXPECT_TRUE(run.estimator.ekf().predict_pixel(again, p) && p.in_front);
       EXPECT_NEAR(p.uv.x(), 60.0, 1.0);
     } else {
-      EXPECT_EQ(st, lf::UpdateStatus::kRejected);
+      EXPECT_EQ(st, lf::UpdateStatus::kBehindCamera);
       EXPECT_EQ(again, slot);
       EXPECT_FALSE(run.estimator.ekf().predict_pixel(again, p) && p.in_front);
     }

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +13,7 @@
 #include "cleanslam/firmware/loop.hpp"
 #include "cleanslam/firmware/program.hpp"
 #include "cleanslam/firmware/run.hpp"
+#include "cleanslam/firmware/sinks.hpp"
 #include "cleanslam/firmware/slam_estimator.hpp"
 #include "cleanslam/sim_hal/dataset_source.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
@@ -158,8 +160,20 @@ TEST(SlamLoop, ImageFramesGoThroughThePipelineInBoundedStepsWithoutAllocation) {
   EXPECT_GT(estimator.ekf().landmark_count(), 5);
 }
 
-// The summary at the end of a run counts how the map changed, as the filter counted it.
-TEST(SlamLoop, SummaryCountsTheMapsChanges) {
+namespace {
+
+struct CountingByStatus : firmware::UpdateSink {
+  std::array<std::uint64_t, hal::log::kUpdateStatusCount> n{};
+  void update(const hal::log::UpdateRecord& r) override {
+    ++n.at(static_cast<std::size_t>(r.status));
+  }
+};
+
+}  // namespace
+
+// The summary at the end of a run counts how the map changed, as the filter counted it, and the
+// update records by status, as the sinks received them.
+TEST(SlamLoop, SummaryCountsTheMapsChangesAndTheRecords) {
   SimulatedRun run(30.0);
   ASSERT_TRUE(run.ok);
   FirmwareConfig config;
@@ -167,7 +181,9 @@ TEST(SlamLoop, SummaryCountsTheMapsChanges) {
   config.filter.max_landmarks = 8;  // a small pool: landmarks are replaced
   SlamEstimator estimator(config);
   Loop loop(config.loop, estimator);
+  CountingByStatus counting;
   loop.add_source(&run.source);
+  loop.add_update_sink(&counting);
   firmware::VirtualClock clock;
   firmware::run_virtual(loop, clock, false, nullptr);
   const auto& c = estimator.ekf().counters();
@@ -190,6 +206,21 @@ TEST(SlamLoop, SummaryCountsTheMapsChanges) {
                             std::to_string(w.windows_gated) + " taken back to the gyro\n";
   EXPECT_NE(text.find("cleanslam: wheel heading: scale "), std::string::npos) << text;
   EXPECT_NE(text.find(fused), std::string::npos) << text;
+  ASSERT_GT(counting.n[0], 0U);  // updated
+  EXPECT_EQ(loop.stats().records_by_status, counting.n);
+  std::string by_status = "cleanslam: update records by status:";
+  const char* separator = " ";
+  for (std::size_t i = 0; i < counting.n.size(); ++i) {
+    if (counting.n[i] > 0) {
+      by_status.append(separator)
+          .append(firmware::to_string(static_cast<hal::log::UpdateStatus>(i)))
+          .append(" ")
+          .append(std::to_string(counting.n[i]));
+      separator = ", ";
+    }
+  }
+  by_status.push_back('\n');
+  EXPECT_NE(text.find(by_status), std::string::npos) << text;
 }
 
 // With the wheel drift state the filter learns the drift and the gyro bias from the two turns'

@@ -25,6 +25,19 @@ struct MapCounters {
   std::uint64_t merges_gated = 0;
 };
 
+// Measurements the filter did not fuse (camera observations, and turn differences that were not
+// finite), by reason (slam_core::ObservationResult's names); reasons that never occurred are left
+// out.
+struct ObservationRejection {
+  const char* reason = "";
+  std::uint64_t count = 0;
+};
+inline constexpr int kMaxRejectionReasons = 16;
+struct ObservationRejections {
+  std::array<ObservationRejection, kMaxRejectionReasons> by_reason{};
+  int count = 0;
+};
+
 // The wheel heading fusion's calibration at the end of a run (filter.wheel_yaw_fusion).
 struct WheelYawReport {
   double scale = 0.0;  // s: theta = (1 + s) w - c d
@@ -75,6 +88,7 @@ class Estimator {
   // The map: fills at most `max` landmarks, returns how many.
   virtual int landmarks(LandmarkEstimate* out, int max) const = 0;
   [[nodiscard]] virtual MapCounters map_counters() const { return {}; }
+  [[nodiscard]] virtual ObservationRejections observation_rejections() const { return {}; }
   // False when the heading does not fuse the wheels.
   virtual bool wheel_yaw(WheelYawReport& /*out*/) const { return false; }
 };

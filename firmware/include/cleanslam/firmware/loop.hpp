@@ -51,6 +51,7 @@ struct LoopStats {
   std::uint64_t predictions_skipped = 0;  // encoders silent
   std::uint64_t poses = 0;
   std::uint64_t update_records = 0;
+  std::array<std::uint64_t, hal::log::kUpdateStatusCount> records_by_status{};
   RejectCounters rejects;
 };
 

@@ -47,6 +47,7 @@ class SlamEstimator final : public Estimator {
   [[nodiscard]] hal::PoseEstimate dead_reckoning_pose(hal::TimeNs t_ns) const override;
   int landmarks(LandmarkEstimate* out, int max) const override;
   [[nodiscard]] MapCounters map_counters() const override;
+  [[nodiscard]] ObservationRejections observation_rejections() const override;
   bool wheel_yaw(WheelYawReport& out) const override;
 
   [[nodiscard]] const slam_core::Ekf& ekf() const { return ekf_; }

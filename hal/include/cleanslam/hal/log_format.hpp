@@ -52,15 +52,19 @@ enum class RecordType : std::uint16_t {
 
 // Status of one observation in a visual update (the per-update diagnostics record).
 enum class UpdateStatus : std::uint8_t {
-  kUpdated = 0,      // fused
-  kInitialized = 1,  // new landmark, undelayed initialization (eq. 39-45)
-  kGated = 2,        // rejected by the innovation gate / JCBB
-  kRejected = 3,     // non-finite or outside the image
-  kSkipped = 4,      // no update: too few inliers or standing still
-  kNoSlot = 5,       // map full, not initialized
-  kMerged = 6,       // a landmark mapped again merged into its earlier entry (slot: that entry)
-  kMergeGated = 7,   // the same refused by the merge's gate: the earlier entry was deleted
+  kUpdated = 0,       // fused
+  kInitialized = 1,   // new landmark, undelayed initialization (eq. 39-45)
+  kGated = 2,         // rejected by the innovation gate / JCBB
+  kRejected = 3,      // non-finite, outside the image, or no positive-definite covariance
+  kSkipped = 4,       // no update: too few inliers or standing still
+  kNoSlot = 5,        // map full, not initialized
+  kMerged = 6,        // a landmark mapped again merged into its earlier entry (slot: that entry)
+  kMergeGated = 7,    // the same refused by the merge's gate: the earlier entry was deleted
+  kDepthBound = 8,    // the update would have moved the landmark behind the camera or past the
+                      // workspace (filter.depth_bounds, max_depth_m)
+  kBehindCamera = 9,  // the landmark's estimate is behind the camera: no prediction
 };
+inline constexpr int kUpdateStatusCount = 10;
 
 struct UpdateRecord {
   TimeNs t_ns = 0;
