@@ -217,6 +217,7 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     auto& x = cfg.sinks;
     x.tum_path = s.text("tum", x.tum_path);
     x.diagnostics_path = s.text("diagnostics", x.diagnostics_path);
+    x.fusion_path = s.text("fusion", x.fusion_path);
     x.can = s.flag("can", x.can);
     x.can_interface = s.text("can_interface", x.can_interface);
     s.done();
@@ -453,6 +454,7 @@ std::string config_text(const FirmwareConfig& c) {
   s << "sinks:\n"
     << "  tum: " << quoted(k.tum_path) << "\n"
     << "  diagnostics: " << quoted(k.diagnostics_path) << "\n"
+    << "  fusion: " << quoted(k.fusion_path) << "\n"
     << "  can: " << (k.can ? "true" : "false") << "\n"
     << "  can_interface: " << quoted(k.can_interface) << "\n";
   const auto& r = c.recorder;

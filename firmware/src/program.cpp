@@ -300,13 +300,15 @@ int run_normal(const Args& args) {
     loop.add_pose_sink(&tum);
   }
   DiagnosticsCsv diagnostics;
-  if (!config.sinks.diagnostics_path.empty()) {
-    if (!diagnostics.open(config.sinks.diagnostics_path, error)) {
-      std::fprintf(stderr, "cleanslam: error: %s\n", error.c_str());
-      return 2;
-    }
-    loop.add_update_sink(&diagnostics);
+  FusionCsv fusion;
+  const SinkSettings& k = config.sinks;
+  if ((!k.diagnostics_path.empty() && !diagnostics.open(k.diagnostics_path, error)) ||
+      (!k.fusion_path.empty() && !fusion.open(k.fusion_path, error))) {
+    std::fprintf(stderr, "cleanslam: error: %s\n", error.c_str());
+    return 2;
   }
+  loop.add_update_sink(&diagnostics);  // a CSV sink that was not opened writes nothing
+  loop.add_update_sink(&fusion);
   if (config.sinks.can && !robot) {
     std::fprintf(stderr,
                  "cleanslam: warning: sinks.can: the CAN pose sink needs source.kind: drivers; "

@@ -26,6 +26,8 @@ const char* type_name(lf::RecordType t) {
       return "pose";
     case lf::RecordType::kUpdate:
       return "update";
+    case lf::RecordType::kFusion:
+      return "fusion";
     default:
       return "record";
   }

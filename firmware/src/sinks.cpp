@@ -167,19 +167,29 @@ const char* to_string(hal::log::UpdateStatus s) {
   return "?";
 }
 
-DiagnosticsCsv::~DiagnosticsCsv() {
+CsvSink::~CsvSink() {
   if (file_ != nullptr) {
     std::fclose(file_);
   }
 }
 
-bool DiagnosticsCsv::open(const std::string& path, std::string& error) {
+bool CsvSink::open_with_header(const std::string& path, const char* header, std::string& error) {
   if (!open_file(file_, buffer_, path, error)) {
     return false;
   }
-  std::fputs("#t_ns,track_id,slot,status,u_px,v_px,innovation_u,innovation_v,mahalanobis2\n",
-             file_);
+  std::fputs(header, file_);
   return true;
+}
+
+void CsvSink::flush() {
+  if (file_ != nullptr) {
+    std::fflush(file_);
+  }
+}
+
+bool DiagnosticsCsv::open(const std::string& path, std::string& error) {
+  return open_with_header(
+      path, "#t_ns,track_id,slot,status,u_px,v_px,innovation_u,innovation_v,mahalanobis2\n", error);
 }
 
 void DiagnosticsCsv::update(const hal::log::UpdateRecord& r) {
@@ -191,10 +201,26 @@ void DiagnosticsCsv::update(const hal::log::UpdateRecord& r) {
                r.innovation_u, r.innovation_v, r.mahalanobis2);
 }
 
-void DiagnosticsCsv::flush() {
-  if (file_ != nullptr) {
-    std::fflush(file_);
+const char* to_string(hal::log::FusionSource s) {
+  switch (s) {
+    case hal::log::FusionSource::kWheelGyroMismatch:
+      return "wheel_gyro_mismatch";
   }
+  return "?";
+}
+
+bool FusionCsv::open(const std::string& path, std::string& error) {
+  return open_with_header(
+      path, "#t_ns,source,index,status,innovation,innovation_variance,test_ratio\n", error);
+}
+
+void FusionCsv::fusion(const hal::log::FusionRecord& r) {
+  if (file_ == nullptr) {
+    return;
+  }
+  std::fprintf(file_, "%lld,%s,%d,%s,%.9g,%.9g,%.9g\n", static_cast<long long>(r.t_ns),
+               to_string(r.source), static_cast<int>(r.index), r.fused ? "fused" : "gated",
+               r.innovation, r.innovation_variance, r.test_ratio);
 }
 
 }  // namespace cleanslam::firmware

@@ -162,9 +162,33 @@ void SlamEstimator::predict(hal::TimeNs t_ns, bool /*gyro_ok: the dead reckoner 
       // ATE on sparse seeds 1-40 (standard error 0.12 m).
       ekf_.fuse_wheel_gyro_mismatch(u.wheel_gyro_mismatch, config_.filter.wheel_yaw_gate_chi2);
       share_wheel_state();
+      record_mismatch(t_ns);
     }
     predicted_to_ns_ = t_ns;
   }
+}
+
+void SlamEstimator::record_mismatch(hal::TimeNs t_ns) {
+  const slam_core::MismatchStatus& m = ekf_.last_mismatch();
+  fusion_record_count_ = std::min(m.count, static_cast<int>(fusion_records_.size()));
+  for (int i = 0; i < fusion_record_count_; ++i) {
+    const slam_core::ScalarFusionStatus& st = m.updates[static_cast<std::size_t>(i)];
+    lf::FusionRecord& r = fusion_records_[static_cast<std::size_t>(i)];
+    r.t_ns = t_ns;
+    r.source = lf::FusionSource::kWheelGyroMismatch;
+    r.index = static_cast<std::uint8_t>(i);
+    r.fused = st.fused;
+    r.innovation = st.innovation;
+    r.innovation_variance = st.innovation_variance;
+    r.test_ratio = st.test_ratio;
+  }
+}
+
+int SlamEstimator::take_fusion_records(const hal::log::FusionRecord*& records) {
+  records = fusion_records_.data();
+  const int n = fusion_record_count_;
+  fusion_record_count_ = 0;
+  return n;
 }
 
 void SlamEstimator::begin_frame(const hal::CameraFrame& frame) {

@@ -1,7 +1,7 @@
 // cleanslam-replay DATASET --out DIR [--config FILE] [--set key=value ...]
 // Runs the firmware's own loop on a dataset through sim_hal, as fast as it can, on a virtual
 // clock: deterministic. Writes DIR/trajectory.tum (+ .cov), dead_reckoning.tum, landmarks.csv,
-// diagnostics.csv.
+// diagnostics.csv, fusion.csv.
 #include <unistd.h>
 
 #include <algorithm>
@@ -29,7 +29,9 @@ constexpr const char* kUsage =
     "t x y z qx qy qz qw), DIR/trajectory.tum.cov (t and the 6x6 covariance over x y z roll\n"
     "pitch yaw, row-major, position block in the frame of the first pose), "
     "DIR/dead_reckoning.tum,\n"
-    "DIR/landmarks.csv (slot,x,y,z,sxx,sxy,sxz,syy,syz,szz) and DIR/diagnostics.csv.\n";
+    "DIR/landmarks.csv (slot,x,y,z,sxx,sxy,sxz,syy,syz,szz), DIR/diagnostics.csv (one record per\n"
+    "observation of a visual update) and DIR/fusion.csv (one per scalar update of an odometry\n"
+    "measurement: the turns' difference with filter.wheel_drift_state).\n";
 
 // A progress bar on stderr, driven by the published poses' time.
 class Progress final : public hal::PoseSink {
@@ -132,13 +134,16 @@ int main(int argc, char** argv) {
   firmware::TumWriter trajectory;
   firmware::TumWriter dead_reckoning;
   firmware::DiagnosticsCsv diagnostics;
+  firmware::FusionCsv fusion;
   if (!trajectory.open(out + "/trajectory.tum", true, true, error) ||
       !dead_reckoning.open(out + "/dead_reckoning.tum", true, false, error) ||
-      !diagnostics.open(out + "/diagnostics.csv", error)) {
+      !diagnostics.open(out + "/diagnostics.csv", error) ||
+      !fusion.open(out + "/fusion.csv", error)) {
     return fail(error);
   }
   loop.add_frame_sinks(&trajectory, &dead_reckoning);
   loop.add_update_sink(&diagnostics);
+  loop.add_update_sink(&fusion);
   const auto& ds = source->dataset();
   hal::TimeNs t0 = 0;
   hal::TimeNs t1 = 0;

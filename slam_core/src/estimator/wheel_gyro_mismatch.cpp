@@ -12,10 +12,18 @@ namespace cleanslam::slam_core {
 // is a scalar update whose H has two entries, the bias row and the drift row, so P H^T is a sum
 // of two columns. The update is exactly linear; it moves the pose and the map only through their
 // correlations with b and c.
+double Ekf::last_mismatch_test_ratio() const {
+  double ratio = -1.0;
+  for (int i = 0; i < mismatch_status_.count; ++i) {
+    ratio = std::max(ratio, mismatch_status_.updates[static_cast<std::size_t>(i)].test_ratio);
+  }
+  return ratio;
+}
+
 ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGyroMismatch& m,
                                                 double gate_chi2) {
   finish_update();
-  mismatch_test_ratio_ = -1.0;
+  mismatch_status_ = MismatchStatus{};
   if (!config_.wheel_drift_state || !config_.gyro_bias_state || m.intervals <= 0) {
     return ObservationResult::kInvalidSlot;
   }
@@ -43,10 +51,13 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
     const double S = h(0) * PHt(kBiasRow) + h(1) * PHt(kDriftRow) + 1.0;
     const double nu = z - (h(0) * x_(kBiasRow) + h(1) * x_(kDriftRow));
     const double ratio = nu * nu / S;
-    mismatch_test_ratio_ = std::max(mismatch_test_ratio_, ratio);
+    ScalarFusionStatus& st =
+        mismatch_status_.updates[static_cast<std::size_t>(mismatch_status_.count++)];
+    st = ScalarFusionStatus{nu, S, ratio, false};
     if (gate_chi2 > 0.0 && !(ratio <= gate_chi2)) {
       continue;
     }
+    st.fused = true;
     auto K = W_.col(0).head(n);
     K = PHt / S;
     if (config_.invariant_reset) {

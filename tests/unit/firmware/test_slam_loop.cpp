@@ -164,8 +164,16 @@ namespace {
 
 struct CountingByStatus : firmware::UpdateSink {
   std::array<std::uint64_t, hal::log::kUpdateStatusCount> n{};
+  std::uint64_t fusions = 0;
+  std::uint64_t fusions_fused = 0;
+  hal::log::FusionRecord last_fusion;
   void update(const hal::log::UpdateRecord& r) override {
     ++n.at(static_cast<std::size_t>(r.status));
+  }
+  void fusion(const hal::log::FusionRecord& r) override {
+    ++fusions;
+    fusions_fused += r.fused ? 1 : 0;
+    last_fusion = r;
   }
 };
 
@@ -206,7 +214,8 @@ TEST(SlamLoop, SummaryCountsTheMapsChangesAndTheRecords) {
                             std::to_string(w.windows_gated) + " taken back to the gyro\n";
   EXPECT_NE(text.find("cleanslam: wheel heading: scale "), std::string::npos) << text;
   EXPECT_NE(text.find(fused), std::string::npos) << text;
-  ASSERT_GT(counting.n[0], 0U);  // updated
+  ASSERT_GT(counting.n[0], 0U);     // updated
+  EXPECT_EQ(counting.fusions, 0U);  // no odometry fusion without the drift state
   EXPECT_EQ(loop.stats().records_by_status, counting.n);
   std::string by_status = "cleanslam: update records by status:";
   const char* separator = " ";
@@ -224,8 +233,9 @@ TEST(SlamLoop, SummaryCountsTheMapsChangesAndTheRecords) {
 }
 
 // With the wheel drift state the filter learns the drift and the gyro bias from the two turns'
-// differences at every prediction, and the summary says so.
-TEST(SlamLoop, WheelDriftStateLearnsFromEveryPredictionAndIsSummarized) {
+// differences at every prediction, the sinks get one record per scalar update, and the summary
+// says so.
+TEST(SlamLoop, WheelDriftStateLearnsFromEveryPredictionAndIsRecordedAndSummarized) {
   SimulatedRun run(30.0);
   ASSERT_TRUE(run.ok);
   FirmwareConfig config;
@@ -234,7 +244,9 @@ TEST(SlamLoop, WheelDriftStateLearnsFromEveryPredictionAndIsSummarized) {
   config.filter.wheel_drift_state = true;
   SlamEstimator estimator(config);
   Loop loop(config.loop, estimator);
+  CountingByStatus counting;
   loop.add_source(&run.source);
+  loop.add_update_sink(&counting);
   firmware::VirtualClock clock;
   firmware::run_virtual(loop, clock, false, nullptr);
   firmware::WheelYawReport w;
@@ -243,6 +255,20 @@ TEST(SlamLoop, WheelDriftStateLearnsFromEveryPredictionAndIsSummarized) {
   EXPECT_GT(w.mismatches_fused, 400U);  // 20 Hz encoder intervals over 30 s, in the increments
   EXPECT_LT(w.state_drift_std, 0.5 * config.filter.wheel_yaw_drift_std_rad_per_m);
   EXPECT_TRUE(std::isfinite(w.state_drift_rad_per_m));
+  // Each fusion fused at least one scalar update, each gated one refused all (at most two).
+  EXPECT_EQ(loop.stats().fusion_records, counting.fusions);
+  EXPECT_GE(counting.fusions_fused, w.mismatches_fused);
+  EXPECT_LE(counting.fusions, 2 * (w.mismatches_fused + w.mismatches_gated));
+  // The last record is the filter's last scalar update.
+  const auto& m = estimator.ekf().last_mismatch();
+  ASSERT_GT(m.count, 0);
+  const auto& u = m.updates[static_cast<std::size_t>(m.count - 1)];
+  EXPECT_EQ(counting.last_fusion.index, m.count - 1);
+  EXPECT_EQ(counting.last_fusion.innovation, u.innovation);
+  EXPECT_EQ(counting.last_fusion.innovation_variance, u.innovation_variance);
+  EXPECT_EQ(counting.last_fusion.test_ratio, u.test_ratio);
+  EXPECT_EQ(counting.last_fusion.fused, u.fused);
+  EXPECT_GT(u.innovation_variance, 1.0);  // the whitened noise plus the state's uncertainty
   const std::string text = summary_text(loop);
   ASSERT_FALSE(text.empty());
   const std::string counts = std::to_string(w.mismatches_fused) + " turn differences fused, " +

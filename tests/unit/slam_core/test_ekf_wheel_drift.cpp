@@ -81,6 +81,13 @@ TEST(EkfWheelDrift, OneMismatchIsTheDenseKalmanUpdate) {
   ASSERT_EQ(ekf.fuse_wheel_gyro_mismatch(mismatch(z, 0.5, 0.08, R), 16.0),
             cs::ObservationResult::kFused);
   EXPECT_NEAR(ekf.last_mismatch_test_ratio(), (z - (H * x)(0, 0)) * (z - (H * x)(0, 0)) / S, 1e-12);
+  // Its status, whitened by the measurement's noise (the eigenvector's sign is free).
+  const cs::MismatchStatus& st = ekf.last_mismatch();
+  ASSERT_EQ(st.count, 1);
+  EXPECT_TRUE(st.updates[0].fused);
+  EXPECT_NEAR(std::abs(st.updates[0].innovation), std::abs(z - (H * x)(0, 0)) / std::sqrt(R), 1e-9);
+  EXPECT_NEAR(st.updates[0].innovation_variance, S / R, 1e-9);
+  EXPECT_NEAR(st.updates[0].test_ratio, ekf.last_mismatch_test_ratio(), 1e-15);
   EXPECT_LT((ekf.state().head(n) - x_ref).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((ekf.covariance().topLeftCorner(n, n) - P_ref).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_GT((ekf.state().head(6) - x.head(6)).norm(), 1e-6);  // through its correlation with c
@@ -167,6 +174,8 @@ TEST(EkfWheelDrift, AnOutlierIsGatedAndBadInputRejectedWithNothingChanged) {
   EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(mismatch(1.0, 0.5, 0.08, 1e-4), 16.0),
             cs::ObservationResult::kGate);
   EXPECT_GT(ekf.last_mismatch_test_ratio(), 16.0);
+  ASSERT_EQ(ekf.last_mismatch().count, 1);
+  EXPECT_FALSE(ekf.last_mismatch().updates[0].fused);
   EXPECT_EQ(ekf.counters().wheel_gyro_mismatches_gated, 1U);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   cs::OdometryIncrement::WheelGyroMismatch bad = mismatch(0.0, 0.5, 0.08, 1e-4);
@@ -181,6 +190,8 @@ TEST(EkfWheelDrift, AnOutlierIsGatedAndBadInputRejectedWithNothingChanged) {
   EXPECT_EQ(mismatch(0.0, 0.5, 0.08, nan).intervals, 0);
   const cs::OdometryIncrement::WheelGyroMismatch none;
   EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(none, 16.0), cs::ObservationResult::kInvalidSlot);
+  EXPECT_EQ(ekf.last_mismatch().count, 0);
+  EXPECT_EQ(ekf.last_mismatch_test_ratio(), -1.0);
   EXPECT_EQ(ekf.state(), x);
   EXPECT_EQ(ekf.covariance(), P);
   EXPECT_EQ(ekf.counters().wheel_gyro_mismatches_fused, 0U);

@@ -104,6 +104,7 @@ struct SourceSettings {
 struct SinkSettings {
   std::string tum_path;                // TUM trajectory file; empty: none
   std::string diagnostics_path;        // per-update records (CSV); empty: none
+  std::string fusion_path;             // odometry fusions' records (CSV); empty: none
   bool can = false;                    // CAN pose frame through the driver
   std::string can_interface = "can0";  // pose frames 0x201/0x202 of docs/can.md
 };

@@ -81,6 +81,12 @@ class Estimator {
   virtual bool step_frame(int& budget) = 0;
   // Per-observation records of the last finished frame.
   virtual int update_records(const hal::log::UpdateRecord*& records) const = 0;
+  // The odometry fusions' records since the last call (predictions fuse them); they stay valid
+  // until the next prediction.
+  virtual int take_fusion_records(const hal::log::FusionRecord*& records) {
+    records = nullptr;
+    return 0;
+  }
   [[nodiscard]] virtual hal::PoseEstimate pose(hal::TimeNs t_ns) const = 0;
   [[nodiscard]] virtual bool standing_still() const = 0;
   // Odometry alone (encoders and gyro), for comparison.

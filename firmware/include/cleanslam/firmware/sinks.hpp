@@ -38,23 +38,40 @@ class TumWriter final : public hal::PoseSink {
   std::array<double, 4> q0_{1.0, 0.0, 0.0, 0.0};  // w x y z
 };
 
-// The per-update diagnostics records as CSV.
-class DiagnosticsCsv final : public UpdateSink {
+// Diagnostics records as a CSV file with a header line; nothing is written before open().
+class CsvSink : public UpdateSink {
  public:
-  DiagnosticsCsv() = default;
-  ~DiagnosticsCsv() override;
-  DiagnosticsCsv(const DiagnosticsCsv&) = delete;
-  DiagnosticsCsv& operator=(const DiagnosticsCsv&) = delete;
+  CsvSink() = default;
+  ~CsvSink() override;
+  CsvSink(const CsvSink&) = delete;
+  CsvSink& operator=(const CsvSink&) = delete;
 
-  bool open(const std::string& path, std::string& error);
-  void update(const hal::log::UpdateRecord& r) override;
   void flush() override;
 
- private:
+ protected:
+  bool open_with_header(const std::string& path, const char* header, std::string& error);
   std::FILE* file_ = nullptr;
+
+ private:
   std::vector<char> buffer_;
 };
 
+// The per-update diagnostics records as CSV.
+class DiagnosticsCsv final : public CsvSink {
+ public:
+  bool open(const std::string& path, std::string& error);
+  void update(const hal::log::UpdateRecord& r) override;
+};
+
+// The odometry fusions' records as CSV (visual update records go to DiagnosticsCsv).
+class FusionCsv final : public CsvSink {
+ public:
+  bool open(const std::string& path, std::string& error);
+  void update(const hal::log::UpdateRecord& /*record*/) override {}
+  void fusion(const hal::log::FusionRecord& r) override;
+};
+
 const char* to_string(hal::log::UpdateStatus s);
+const char* to_string(hal::log::FusionSource s);
 
 }  // namespace cleanslam::firmware

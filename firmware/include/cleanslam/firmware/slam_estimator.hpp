@@ -42,6 +42,7 @@ class SlamEstimator final : public Estimator {
   void begin_frame(const hal::CameraFrame& frame) override;
   bool step_frame(int& budget) override;
   int update_records(const hal::log::UpdateRecord*& records) const override;
+  int take_fusion_records(const hal::log::FusionRecord*& records) override;
   [[nodiscard]] hal::PoseEstimate pose(hal::TimeNs t_ns) const override;
   [[nodiscard]] bool standing_still() const override;
   [[nodiscard]] hal::PoseEstimate dead_reckoning_pose(hal::TimeNs t_ns) const override;
@@ -59,6 +60,8 @@ class SlamEstimator final : public Estimator {
   // The filter's gyro bias and wheel drift for the dead reckoner's weights
   // (filter.wheel_drift_state).
   void share_wheel_state();
+  // The turns' difference's scalar updates as fusion records (take_fusion_records).
+  void record_mismatch(hal::TimeNs t_ns);
   // Features path: association, JCBB and the update's start; false when nothing is fused
   // (standing still, everything recorded as skipped).
   bool associate_features();
@@ -98,6 +101,9 @@ class SlamEstimator final : public Estimator {
   slam_core::frontend::JcbbResult jcbb_result_;
   std::array<hal::log::UpdateRecord, hal::kMaxFeaturesPerFrame> records_{};
   int record_count_ = 0;
+  // The last prediction's turns' difference, one record per scalar update.
+  std::array<hal::log::FusionRecord, 2> fusion_records_{};
+  int fusion_record_count_ = 0;
   std::uint64_t image_frames_ = 0;
   bool relocalizing_ = false;              // set down with robot.on_set_down: relocalize
   std::uint64_t updates_at_set_down_ = 0;  // Ekf::counters().updates_applied then

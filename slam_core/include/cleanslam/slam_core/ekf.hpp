@@ -92,10 +92,12 @@ class Ekf {
   // whole state along the information's eigenvectors, each gated at gate_chi2 (none when not
   // above 0). kFused when any passed; kGate (counted) when none did; kNonFinite,
   // kNotPositiveDefinite or kInvalidSlot (no drift or bias state, or no intervals): nothing
-  // changed. The test ratio is the larger of the two.
+  // changed. last_mismatch() holds each scalar update's status; the test ratio is the larger of
+  // the two, -1 without any.
   ObservationResult fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGyroMismatch& m,
                                              double gate_chi2);
-  [[nodiscard]] double last_mismatch_test_ratio() const { return mismatch_test_ratio_; }
+  [[nodiscard]] const MismatchStatus& last_mismatch() const { return mismatch_status_; }
+  [[nodiscard]] double last_mismatch_test_ratio() const;
 
   // Per-observation gates (3-D and pixel), then one batch Joseph-form update of the survivors (eq.
   // 25-27). With a step budget (set_update_step) the update may return still pending: the status
@@ -260,7 +262,7 @@ class Ekf {
   UpdateStatus status_;
   EkfCounters counters_;
   double merge_test_ratio_ = -1.0;
-  double mismatch_test_ratio_ = -1.0;
+  MismatchStatus mismatch_status_;
 };
 
 }  // namespace cleanslam::slam_core
