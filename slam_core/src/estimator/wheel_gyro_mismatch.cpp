@@ -12,14 +12,6 @@ namespace cleanslam::slam_core {
 // is a scalar update whose H has two entries, the bias row and the drift row, so P H^T is a sum
 // of two columns. The update is exactly linear; it moves the pose and the map only through their
 // correlations with b and c.
-double Ekf::last_mismatch_test_ratio() const {
-  double ratio = -1.0;
-  for (int i = 0; i < mismatch_status_.count; ++i) {
-    ratio = std::max(ratio, mismatch_status_.updates[static_cast<std::size_t>(i)].test_ratio);
-  }
-  return ratio;
-}
-
 ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGyroMismatch& m,
                                                 double gate_chi2) {
   finish_update();
@@ -84,6 +76,14 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
   }
   ++counters_.wheel_gyro_mismatches_fused;
   return ObservationResult::kFused;
+}
+
+double Ekf::last_mismatch_test_ratio() const {
+  double ratio = -1.0;
+  for (int i = 0; i < mismatch_status_.count; ++i) {
+    ratio = std::max(ratio, mismatch_status_.updates[static_cast<std::size_t>(i)].test_ratio);
+  }
+  return ratio;
 }
 
 }  // namespace cleanslam::slam_core

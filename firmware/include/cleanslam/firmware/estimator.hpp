@@ -81,8 +81,8 @@ class Estimator {
   virtual bool step_frame(int& budget) = 0;
   // Per-observation records of the last finished frame.
   virtual int update_records(const hal::log::UpdateRecord*& records) const = 0;
-  // The odometry fusions' records since the last call (predictions fuse them); they stay valid
-  // until the next prediction.
+  // The last prediction's odometry fusion records, handed out once (a second call returns none);
+  // they stay valid until the next prediction.
   virtual int take_fusion_records(const hal::log::FusionRecord*& records) {
     records = nullptr;
     return 0;

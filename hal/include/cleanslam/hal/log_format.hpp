@@ -56,7 +56,8 @@ enum class UpdateStatus : std::uint8_t {
   kUpdated = 0,       // fused
   kInitialized = 1,   // new landmark, undelayed initialization (eq. 39-45)
   kGated = 2,         // rejected by the innovation gate / JCBB
-  kRejected = 3,      // non-finite, outside the image, or no positive-definite covariance
+  kRejected = 3,      // any other reason: non-finite, outside the image, no positive-definite
+                      // covariance, map capacity
   kSkipped = 4,       // no update: too few inliers or standing still
   kNoSlot = 5,        // map full, not initialized
   kMerged = 6,        // a landmark mapped again merged into its earlier entry (slot: that entry)
