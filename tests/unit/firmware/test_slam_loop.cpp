@@ -177,6 +177,20 @@ struct CountingByStatus : firmware::UpdateSink {
   }
 };
 
+// A SlamEstimator on the loop, run to the end of a simulated run, its records counted.
+struct CountedRun {
+  CountedRun(SimulatedRun& run, const FirmwareConfig& config)
+      : estimator(config), loop(config.loop, estimator) {
+    loop.add_source(&run.source);
+    loop.add_update_sink(&counting);
+    firmware::VirtualClock clock;
+    firmware::run_virtual(loop, clock, false, nullptr);
+  }
+  SlamEstimator estimator;
+  Loop loop;
+  CountingByStatus counting;
+};
+
 }  // namespace
 
 // The summary at the end of a run counts how the map changed, as the filter counted it, and the
@@ -187,13 +201,10 @@ TEST(SlamLoop, SummaryCountsTheMapsChangesAndTheRecords) {
   FirmwareConfig config;
   config.calibration = run.calibration;
   config.filter.max_landmarks = 8;  // a small pool: landmarks are replaced
-  SlamEstimator estimator(config);
-  Loop loop(config.loop, estimator);
-  CountingByStatus counting;
-  loop.add_source(&run.source);
-  loop.add_update_sink(&counting);
-  firmware::VirtualClock clock;
-  firmware::run_virtual(loop, clock, false, nullptr);
+  CountedRun counted(run, config);
+  const SlamEstimator& estimator = counted.estimator;
+  const Loop& loop = counted.loop;
+  const CountingByStatus& counting = counted.counting;
   const auto& c = estimator.ekf().counters();
   ASSERT_GT(c.landmarks_initialized, 8U);
   ASSERT_GT(c.landmarks_replaced, 0U);
@@ -242,13 +253,10 @@ TEST(SlamLoop, WheelDriftStateLearnsFromEveryPredictionAndIsRecordedAndSummarize
   config.calibration = run.calibration;
   config.filter.gyro_bias_state = true;
   config.filter.wheel_drift_state = true;
-  SlamEstimator estimator(config);
-  Loop loop(config.loop, estimator);
-  CountingByStatus counting;
-  loop.add_source(&run.source);
-  loop.add_update_sink(&counting);
-  firmware::VirtualClock clock;
-  firmware::run_virtual(loop, clock, false, nullptr);
+  CountedRun counted(run, config);
+  const SlamEstimator& estimator = counted.estimator;
+  const Loop& loop = counted.loop;
+  const CountingByStatus& counting = counted.counting;
   firmware::WheelYawReport w;
   ASSERT_TRUE(estimator.wheel_yaw(w));
   ASSERT_TRUE(w.drift_state);
