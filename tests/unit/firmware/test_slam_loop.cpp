@@ -99,33 +99,79 @@ std::string summary_text(const Loop& loop) {
   return text;
 }
 
-TEST(SlamLoop, NoHeapAllocationAfterStartupWithTheEkf) {
-  SimulatedRun run(60.0);
-  ASSERT_TRUE(run.ok);
-  FirmwareConfig config;
-  config.calibration = run.calibration;
-  SlamEstimator estimator(config);
-  Loop loop(config.loop, estimator);
-  test::CollectingSink sink;
-  loop.add_source(&run.source);
-  loop.add_pose_sink(&sink);
-  const hal::TimeNs t0 = run.source.items.front().due;
-  const hal::TimeNs t1 = run.source.items.back().due;
-  loop.start(t0);
-  std::size_t allocations = 0;
-  {
-    test::AllocationScope scope;
-    for (hal::TimeNs t = t0; t <= t1 + hal::kNsPerSecond; t += 5 * hal::kNsPerMillisecond) {
-      loop.iterate(t);
-    }
-    allocations = scope.count();
+namespace {
+
+struct CountingByStatus : firmware::UpdateSink {
+  std::array<std::uint64_t, hal::log::kUpdateStatusCount> n{};
+  std::uint64_t fusions = 0;
+  std::uint64_t fusions_fused = 0;
+  hal::log::FusionRecord last_fusion;
+  void update(const hal::log::UpdateRecord& r) override {
+    ++n.at(static_cast<std::size_t>(r.status));
   }
-  loop.finish();
-  EXPECT_EQ(allocations, 0U);
-  EXPECT_GT(loop.stats().frames_done, 50U);
-  EXPECT_GT(loop.stats().update_records, 200U);
-  EXPECT_GT(estimator.ekf().landmark_count(), 5);
-  EXPECT_EQ(loop.stats().rejects.total(), 0U);
+  void fusion(const hal::log::FusionRecord& r) override {
+    ++fusions;
+    fusions_fused += r.fused ? 1 : 0;
+    last_fusion = r;
+  }
+};
+
+// A SlamEstimator on the loop, run to the end of a simulated run, its records counted.
+struct CountedRun {
+  CountedRun(SimulatedRun& run, const FirmwareConfig& config)
+      : estimator(config), loop(config.loop, estimator) {
+    loop.add_source(&run.source);
+    loop.add_update_sink(&counting);
+    firmware::VirtualClock clock;
+    firmware::run_virtual(loop, clock, false, nullptr);
+  }
+  SlamEstimator estimator;
+  Loop loop;
+  CountingByStatus counting;
+};
+
+}  // namespace
+
+// With the defaults, and with the drift state whose fusion records pass through the loop.
+TEST(SlamLoop, NoHeapAllocationAfterStartupWithTheEkf) {
+  for (const bool drift : {false, true}) {
+    SCOPED_TRACE(drift ? "wheel drift state" : "defaults");
+    SimulatedRun run(60.0);
+    ASSERT_TRUE(run.ok);
+    FirmwareConfig config;
+    config.calibration = run.calibration;
+    config.filter.gyro_bias_state = drift;
+    config.filter.wheel_drift_state = drift;
+    SlamEstimator estimator(config);
+    Loop loop(config.loop, estimator);
+    test::CollectingSink sink;
+    CountingByStatus counting;
+    loop.add_source(&run.source);
+    loop.add_pose_sink(&sink);
+    loop.add_update_sink(&counting);
+    const hal::TimeNs t0 = run.source.items.front().due;
+    const hal::TimeNs t1 = run.source.items.back().due;
+    loop.start(t0);
+    std::size_t allocations = 0;
+    {
+      test::AllocationScope scope;
+      for (hal::TimeNs t = t0; t <= t1 + hal::kNsPerSecond; t += 5 * hal::kNsPerMillisecond) {
+        loop.iterate(t);
+      }
+      allocations = scope.count();
+    }
+    loop.finish();
+    EXPECT_EQ(allocations, 0U);
+    EXPECT_GT(loop.stats().frames_done, 50U);
+    EXPECT_GT(loop.stats().update_records, 200U);
+    EXPECT_GT(estimator.ekf().landmark_count(), 5);
+    EXPECT_EQ(loop.stats().rejects.total(), 0U);
+    if (drift) {
+      EXPECT_GT(counting.fusions, 1000U);  // 20 Hz over 60 s
+    } else {
+      EXPECT_EQ(counting.fusions, 0U);
+    }
+  }
 }
 
 // Rendered images through the front end's frame pipeline: a frame takes several loop iterations
@@ -159,39 +205,6 @@ TEST(SlamLoop, ImageFramesGoThroughThePipelineInBoundedStepsWithoutAllocation) {
   EXPECT_GT(estimator.ekf().counters().updates_applied, 10U);
   EXPECT_GT(estimator.ekf().landmark_count(), 5);
 }
-
-namespace {
-
-struct CountingByStatus : firmware::UpdateSink {
-  std::array<std::uint64_t, hal::log::kUpdateStatusCount> n{};
-  std::uint64_t fusions = 0;
-  std::uint64_t fusions_fused = 0;
-  hal::log::FusionRecord last_fusion;
-  void update(const hal::log::UpdateRecord& r) override {
-    ++n.at(static_cast<std::size_t>(r.status));
-  }
-  void fusion(const hal::log::FusionRecord& r) override {
-    ++fusions;
-    fusions_fused += r.fused ? 1 : 0;
-    last_fusion = r;
-  }
-};
-
-// A SlamEstimator on the loop, run to the end of a simulated run, its records counted.
-struct CountedRun {
-  CountedRun(SimulatedRun& run, const FirmwareConfig& config)
-      : estimator(config), loop(config.loop, estimator) {
-    loop.add_source(&run.source);
-    loop.add_update_sink(&counting);
-    firmware::VirtualClock clock;
-    firmware::run_virtual(loop, clock, false, nullptr);
-  }
-  SlamEstimator estimator;
-  Loop loop;
-  CountingByStatus counting;
-};
-
-}  // namespace
 
 // The summary at the end of a run counts how the map changed, as the filter counted it, and the
 // update records by status, as the sinks received them.
