@@ -17,6 +17,14 @@ constexpr int kPose = hal::kPoseDim;
 bool finite2(double a, double b) {
   return std::isfinite(a) && std::isfinite(b);
 }
+
+// Positive semi-definite up to rounding: the pivoted LDL^T's D has no entry below -1e-9 of its
+// largest (a zero pivot, which LDLT reports as a numerical issue, is a semi-definite matrix's).
+bool positive_semidefinite(const Matrix6d& Q) {
+  const Eigen::LDLT<Matrix6d> ldlt(Q);
+  const Vector6d d = ldlt.vectorD();
+  return d.allFinite() && d.minCoeff() >= -1e-9 * d.cwiseAbs().maxCoeff();
+}
 }  // namespace
 
 const char* to_string(ObservationResult r) {
@@ -185,16 +193,20 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
   PredictStatus status;
   ++counters_.predictions;
   const Matrix6d Q = 0.5 * (u.Q + u.Q.transpose());
-  if (!u.dx_c.allFinite() || !u.dpsi_c.allFinite() || !Q.allFinite()) {
-    status.result = PredictResult::kNonFinite;
-  } else if (std::abs(x_(4)) > config_.max_abs_pitch_rad) {
-    status.result = PredictResult::kPitchSingular;
-  } else if ((Q.diagonal().array() < 0.0).any()) {
-    status.result = PredictResult::kNotPositiveDefinite;
-  }
-  if (!status.applied()) {
+  const auto reject = [this, &status](PredictResult r) {
+    status.result = r;
     ++counters_.predictions_rejected;
     return status;
+  };
+  if (!u.dx_c.allFinite() || !u.dpsi_c.allFinite() || !Q.allFinite() || !u.du_dbias.allFinite() ||
+      !u.du_dscale.allFinite() || !u.du_ddrift.allFinite() || !std::isfinite(u.dt_s)) {
+    return reject(PredictResult::kNonFinite);
+  }
+  if (std::abs(x_(4)) > config_.max_abs_pitch_rad) {
+    return reject(PredictResult::kPitchSingular);
+  }
+  if ((Q.diagonal().array() < 0.0).any()) {
+    return reject(PredictResult::kNotPositiveDefinite);
   }
   const Vector6d pose = x_.head<6>();
   const bool odometry_states = first_slot_ > 0;
@@ -210,10 +222,7 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
   Matrix6d F;
   Matrix6d G;
   prediction_jacobians(pose, ub.head<3>(), ub.tail<3>(), F, G);
-  last_motion_w_ = G.topLeftCorner<3, 3>() * ub.head<3>();
-  x_.head<6>() = predict_pose(pose, ub.head<3>(), ub.tail<3>());  // eq. 3-4
-  x_(3) = wrap_angle(x_(3));
-  x_(5) = wrap_angle(x_(5));
+  const Vector6d predicted = predict_pose(pose, ub.head<3>(), ub.tail<3>());  // eq. 3-4
 
   const Matrix6d Pxx = P_.topLeftCorner<6, 6>();
   Matrix6d Pn = F * Pxx * F.transpose() + G * Q * G.transpose();  // eq. 7
@@ -225,18 +234,40 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
           Fe * P_.block<3, 3>(kBiasRow, kBiasRow) * Fe.transpose();
   }
   const int nl = active_dim_ - kPose;
+  cross_.resize(6, nl);
   if (nl > 0) {  // eq. 8
-    cross_.resize(6, nl);
     cross_.noalias() = F.lazyProduct(P_.block(0, kPose, 6, nl));
     if (odometry_states) {
       cross_.noalias() += Fe.lazyProduct(P_.block(kBiasRow, kPose, 3, nl));
     }
+  }
+  const double bias_walk_var =
+      odometry_states && config_.gyro_bias_state
+          ? config_.gyro_bias_walk * config_.gyro_bias_walk * std::abs(u.dt_s)
+          : 0.0;
+  // A finite increment can still overflow (an increment of 1e300 m): nothing is changed then.
+  if (!predicted.allFinite() || !Pn.allFinite() || !cross_.allFinite() ||
+      !std::isfinite(P_(kBiasRow, kBiasRow) + bias_walk_var)) {
+    return reject(PredictResult::kNonFinite);
+  }
+  // The dead reckoner's Q is itself slightly indefinite at times (rank-deficient, D down to -0.6 %
+  // of its largest in the default room); the predicted covariance never was. A Q that would make
+  // it so is refused.
+  Pn = (0.5 * (Pn + Pn.transpose())).eval();
+  if (!positive_semidefinite(Pn)) {
+    return reject(PredictResult::kNotPositiveDefinite);
+  }
+  last_motion_w_ = G.topLeftCorner<3, 3>() * ub.head<3>();
+  x_.head<6>() = predicted;
+  x_(3) = wrap_angle(x_(3));
+  x_(5) = wrap_angle(x_(5));
+  if (nl > 0) {
     P_.block(0, kPose, 6, nl) = cross_;
     P_.block(kPose, 0, nl, 6) = cross_.transpose();
   }
-  P_.topLeftCorner<6, 6>() = 0.5 * (Pn + Pn.transpose());
+  P_.topLeftCorner<6, 6>() = Pn;
   if (odometry_states && config_.gyro_bias_state) {
-    P_(kBiasRow, kBiasRow) += config_.gyro_bias_walk * config_.gyro_bias_walk * std::abs(u.dt_s);
+    P_(kBiasRow, kBiasRow) += bias_walk_var;
   }
   return status;
 }

@@ -31,6 +31,7 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
   }
   const int n = active_dim_;
   bool fused = false;
+  bool refused = false;
   for (int i = 1; i >= 0; --i) {
     const double l = eig.eigenvalues()(i);
     if (!(l > 1e-12 * largest)) {
@@ -49,9 +50,18 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
     if (gate_chi2 > 0.0 && !(ratio <= gate_chi2)) {
       continue;
     }
-    st.fused = true;
     auto K = W_.col(0).head(n);
     K = PHt / S;
+    // An information of 1e30 leaves S to rounding: a posterior variance below zero refuses it.
+    bool psd = std::isfinite(S);
+    for (int j = 0; j < n && psd; ++j) {
+      psd = P_(j, j) - K(j) * PHt(j) >= 0.0;
+    }
+    if (!psd) {
+      refused = true;
+      continue;
+    }
+    st.fused = true;
     if (config_.invariant_reset) {
       dx_.resize(n);
       dx_ = K * nu;
@@ -69,6 +79,10 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
       dx_.resize(kMaxStateDim);
     }
     fused = true;
+  }
+  if (!fused && refused) {
+    counters_.rejections.add(ObservationResult::kNotPositiveDefinite);
+    return ObservationResult::kNotPositiveDefinite;
   }
   if (!fused) {
     ++counters_.wheel_gyro_mismatches_gated;

@@ -295,6 +295,29 @@ TEST_F(EkfTest, PredictRejectsNonFiniteInput) {
   EXPECT_EQ(ekf_->counters().predictions_rejected, 2U);
 }
 
+// Found by tests/fuzz/fuzz_ekf.cpp: a Q whose diagonal is positive but which is indefinite enough
+// to make the predicted covariance indefinite, and a finite increment whose prediction overflows,
+// were both applied.
+TEST_F(EkfTest, PredictRejectsIndefiniteNoiseAndOverflowLeavingTheFilterAsItWas) {
+  ASSERT_EQ(add_landmarks(2), 2);
+  const Eigen::VectorXd x0 = ekf_->state();
+  const Eigen::MatrixXd P0 = ekf_->covariance();
+  cs::OdometryIncrement u;
+  u.dx_c.x() = 0.1;
+  u.Q.diagonal().setConstant(1e-4);
+  u.Q(0, 1) = u.Q(1, 0) = 4e-4;  // |correlation| 4: an eigenvalue of -3e-4
+  EXPECT_EQ(ekf_->predict(u).result, cs::PredictResult::kNotPositiveDefinite);
+  u.Q(0, 1) = u.Q(1, 0) = 0.0;
+  u.dx_c.x() = 1e300;  // finite; its lever arm on the orientation's variance is not
+  EXPECT_EQ(ekf_->predict(u).result, cs::PredictResult::kNonFinite);
+  EXPECT_EQ(ekf_->state(), x0);
+  EXPECT_EQ(ekf_->covariance(), P0);
+  EXPECT_EQ(ekf_->counters().predictions_rejected, 2U);
+  u.dx_c.x() = 0.1;
+  u.Q(0, 1) = u.Q(1, 0) = 1e-4;  // correlation 1: semi-definite, applied
+  EXPECT_TRUE(ekf_->predict(u).applied());
+}
+
 TEST_F(EkfTest, DeleteFreesSlotAndZeroesItsRows) {
   ASSERT_EQ(add_landmarks(3), 3);
   move(0.1, 0.0);

@@ -62,6 +62,66 @@ cs::OdometryIncrement::WheelGyroMismatch mismatch(double z, double dt, double d,
 
 }  // namespace
 
+// Found by tests/fuzz/fuzz_ekf.cpp: an information of 1e200 and more (finite) left a variance
+// below zero by rounding. Such an update is refused (nothing changed) or fused into a covariance
+// whose diagonal stays non-negative.
+TEST(EkfWheelDrift, ExtremeInformationNeverLeavesANegativeVariance) {
+  int refused = 0;
+  for (const double information : {1e200, 1e250, 1e300}) {
+    for (const int axis : {0, 1}) {
+      cs::Ekf ekf(calibration(), drift_config(false));
+      prepare(ekf);
+      const Eigen::MatrixXd P0 = ekf.covariance();
+      auto m = mismatch(0.3, 0.05, 0.01, 1e-6);
+      m.information(axis, axis) = information;
+      const cs::ObservationResult r = ekf.fuse_wheel_gyro_mismatch(m, 0.0);
+      const int n = ekf.active_dim();
+      EXPECT_GE(ekf.covariance().diagonal().head(n).minCoeff(), 0.0) << information << " " << axis;
+      if (r == cs::ObservationResult::kNotPositiveDefinite) {
+        ++refused;
+        EXPECT_EQ(ekf.covariance(), P0);
+      } else {
+        EXPECT_EQ(r, cs::ObservationResult::kFused);
+      }
+    }
+  }
+  EXPECT_GT(refused, 0);
+}
+
+// Found by tests/fuzz/fuzz_ekf.cpp: a non-finite derivative of the increment in an odometry
+// error state, or a non-finite interval, reached the state and the bias variance.
+TEST(EkfWheelDrift, PredictRejectsNonFiniteOdometryStateInputs) {
+  cs::Ekf ekf(calibration(), drift_config(true));
+  prepare(ekf);
+  const Eigen::VectorXd x0 = ekf.state();
+  const Eigen::MatrixXd P0 = ekf.covariance();
+  cs::OdometryIncrement u;
+  u.dx_c = Eigen::Vector3d(0.0, 0.0, 0.1);
+  u.Q.diagonal().setConstant(1e-5);
+  u.dt_s = 0.05;
+  for (int k = 0; k < 4; ++k) {
+    cs::OdometryIncrement bad = u;
+    switch (k) {
+      case 0:
+        bad.du_dbias(4) = std::nan("");
+        break;
+      case 1:
+        bad.du_dscale(0) = std::numeric_limits<double>::infinity();
+        break;
+      case 2:
+        bad.du_ddrift(4) = std::nan("");
+        break;
+      default:
+        bad.dt_s = std::numeric_limits<double>::infinity();
+        break;
+    }
+    EXPECT_EQ(ekf.predict(bad).result, cs::PredictResult::kNonFinite) << k;
+  }
+  EXPECT_EQ(ekf.state(), x0);
+  EXPECT_EQ(ekf.covariance(), P0);
+  EXPECT_TRUE(ekf.predict(u).applied());
+}
+
 TEST(EkfWheelDrift, OneMismatchIsTheDenseKalmanUpdate) {
   cs::Ekf ekf(calibration(), drift_config(false));
   prepare(ekf);

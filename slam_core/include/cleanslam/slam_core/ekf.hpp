@@ -90,10 +90,11 @@ class Ekf {
   // The gyro's turn less the wheels' in an increment's intervals, z = b dt - c d + noise, as their
   // information about (b, c) (EkfConfig::wheel_drift_state): at most two scalar updates of the
   // whole state along the information's eigenvectors, each gated at gate_chi2 (none when not
-  // above 0). kFused when any passed; kGate (counted) when none did; kNonFinite,
-  // kNotPositiveDefinite or kInvalidSlot (no drift or bias state, or no intervals): nothing
-  // changed. last_mismatch() holds each scalar update's status; the test ratio is the larger of
-  // the two, -1 without any.
+  // above 0) and refused when it would leave a variance below zero. kFused when any passed;
+  // kGate (counted) when none did; kNonFinite, kNotPositiveDefinite (also when every one was
+  // refused) or kInvalidSlot (no drift or bias state, or no intervals): nothing changed.
+  // last_mismatch() holds each scalar update's status; the test ratio is the larger of the two, -1
+  // without any.
   ObservationResult fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGyroMismatch& m,
                                              double gate_chi2);
   [[nodiscard]] const MismatchStatus& last_mismatch() const { return mismatch_status_; }
