@@ -18,12 +18,13 @@ bool finite2(double a, double b) {
   return std::isfinite(a) && std::isfinite(b);
 }
 
-// Positive semi-definite up to rounding: the pivoted LDL^T's D has no entry below -1e-9 of its
-// largest (a zero pivot, which LDLT reports as a numerical issue, is a semi-definite matrix's).
-bool positive_semidefinite(const Matrix6d& Q) {
+// Positive semi-definite up to `tolerance`: the pivoted LDL^T's D has no entry below -tolerance
+// times its largest (a zero pivot, which LDLT reports as a numerical issue, is a semi-definite
+// matrix's).
+bool positive_semidefinite(const Matrix6d& Q, double tolerance = 1e-9) {
   const Eigen::LDLT<Matrix6d> ldlt(Q);
   const Vector6d d = ldlt.vectorD();
-  return d.allFinite() && d.minCoeff() >= -1e-9 * d.cwiseAbs().maxCoeff();
+  return d.allFinite() && d.minCoeff() >= -tolerance * d.cwiseAbs().maxCoeff();
 }
 }  // namespace
 
@@ -205,7 +206,7 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
   if (std::abs(x_(4)) > config_.max_abs_pitch_rad) {
     return reject(PredictResult::kPitchSingular);
   }
-  if ((Q.diagonal().array() < 0.0).any()) {
+  if ((Q.diagonal().array() < 0.0).any() || !positive_semidefinite(Q, 5e-2)) {
     return reject(PredictResult::kNotPositiveDefinite);
   }
   const Vector6d pose = x_.head<6>();
@@ -250,9 +251,9 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
       !std::isfinite(P_(kBiasRow, kBiasRow) + bias_walk_var)) {
     return reject(PredictResult::kNonFinite);
   }
-  // The dead reckoner's Q is itself slightly indefinite at times (rank-deficient, D down to -0.6 %
-  // of its largest in the default room); the predicted covariance never was. A Q that would make
-  // it so is refused.
+  // The dead reckoner's Q is itself slightly indefinite at times (D down to -0.6 % of its largest
+  // in the default room), so Q is refused only beyond -5 %; the predicted pose covariance never
+  // was indefinite, and a Q that would make it so is refused too.
   Pn = (0.5 * (Pn + Pn.transpose())).eval();
   if (!positive_semidefinite(Pn)) {
     return reject(PredictResult::kNotPositiveDefinite);
@@ -849,6 +850,11 @@ bool Ekf::predict_pixel(int slot, PixelPrediction& out) const {
       config_.eps_trk_px * config_.eps_trk_px + config_.eps_cal_px * config_.eps_cal_px;
   out.S = Jp * P_.topLeftCorner<6, 6>() * Jp.transpose() + cross + cross.transpose() +
           Jl * P_.block<3, 3>(lm, lm) * Jl.transpose() + r * Eigen::Matrix2d::Identity();
+  out.S(0, 1) = out.S(1, 0);  // the lower triangle, which the Cholesky factorizations read
+  if (!out.uv.allFinite() || !out.S.allFinite()) {  // a projection that overflows
+    out = PixelPrediction{};
+    return false;
+  }
   out.in_front = true;
   return true;
 }
@@ -903,6 +909,9 @@ int Ekf::joint_pixel_innovation(const Observation* obs, int count, double* nu, d
         Sm(r2, c) = Sm(c, r2);
       }
     }
+  }
+  if (!Sm.allFinite() || !Eigen::Map<const Eigen::VectorXd>(nu, dim).allFinite()) {
+    return -1;
   }
   return count;
 }

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -89,9 +90,15 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
       return ObservationResult::kNotPositiveDefinite;
     }
   }
-  if (config_.invariant_reset) {
-    dx_.resize(n);
-    dx_.noalias() = K * nu;
+  // S near singular (merge_std_m of 1e-300) can overflow the gain or the covariance's products
+  // K PHt^T and K S: nothing is changed then.
+  dx_.resize(n);
+  dx_.noalias() = K * nu;
+  const double largest_product =
+      K.cwiseAbs().maxCoeff() * std::max(PHt.cwiseAbs().maxCoeff(), S.cwiseAbs().maxCoeff());
+  if (!K.allFinite() || !(x_.head(n) + dx_).allFinite() || !(largest_product < 1e300)) {
+    dx_.resize(kMaxStateDim);
+    return ObservationResult::kNotPositiveDefinite;
   }
   x_.head(n).noalias() += K * nu;
   x_(3) = wrap_angle(x_(3));
@@ -115,8 +122,8 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
   if (config_.invariant_reset) {
     begin_invariant_reset(n, dx_.head(n));
     invariant_reset_columns(0, n);
-    dx_.resize(kMaxStateDim);
   }
+  dx_.resize(kMaxStateDim);
   ++counters_.landmarks_merged;
   delete_landmark(drop);
   return ObservationResult::kFused;

@@ -7,6 +7,10 @@
 
 namespace cleanslam::slam_core {
 
+namespace {
+constexpr double kMaxInnovationVariance = 1e10;  // in units of the measurement's own variance
+}  // namespace
+
 // The window's information about e = (b, c), A = sum h h^T / r and y = sum h z / r, is that of
 // two unit-variance measurements along A's eigenvectors v: sqrt(l) v^T e = v^T y / sqrt(l). Each
 // is a scalar update whose H has two entries, the bias row and the drift row, so P H^T is a sum
@@ -26,7 +30,9 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(A);
   const double largest = eig.eigenvalues()(1);
-  if (!(largest > 0.0)) {
+  // Sums of h h^T / r: an information with a negative eigenvalue was not made by add().
+  if (!(largest > 0.0) || eig.eigenvalues()(0) < -1e-9 * largest) {
+    counters_.rejections.add(ObservationResult::kNotPositiveDefinite);
     return ObservationResult::kNotPositiveDefinite;
   }
   const int n = active_dim_;
@@ -52,21 +58,24 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
     }
     auto K = W_.col(0).head(n);
     K = PHt / S;
-    // An information of 1e30 leaves S to rounding: a posterior variance below zero refuses it.
-    bool psd = std::isfinite(S);
+    dx_.resize(n);
+    dx_ = K * nu;
+    // An information of 1e200 leaves the posterior to rounding, one of 1e300 overflows the state:
+    // S beyond kMaxInnovationVariance (the windows of a run reach about 1e5), a posterior
+    // variance below zero, or a state or a covariance product that is not finite refuses the
+    // update.
+    bool psd = S <= kMaxInnovationVariance && dx_.allFinite() && (x_.head(n) + dx_).allFinite() &&
+               K.cwiseAbs().maxCoeff() * PHt.cwiseAbs().maxCoeff() < 1e300;
     for (int j = 0; j < n && psd; ++j) {
       psd = P_(j, j) - K(j) * PHt(j) >= 0.0;
     }
     if (!psd) {
       refused = true;
+      dx_.resize(kMaxStateDim);
       continue;
     }
     st.fused = true;
-    if (config_.invariant_reset) {
-      dx_.resize(n);
-      dx_ = K * nu;
-    }
-    x_.head(n) += K * nu;
+    x_.head(n) += dx_;
     x_(3) = wrap_angle(x_(3));
     x_(5) = wrap_angle(x_(5));
     for (int j = 0; j < n; ++j) {
@@ -76,8 +85,8 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
     if (config_.invariant_reset) {
       begin_invariant_reset(n, dx_.head(n));
       invariant_reset_columns(0, n);
-      dx_.resize(kMaxStateDim);
     }
+    dx_.resize(kMaxStateDim);
     fused = true;
   }
   if (!fused && refused) {

@@ -88,6 +88,20 @@ TEST(EkfWheelDrift, ExtremeInformationNeverLeavesANegativeVariance) {
   EXPECT_GT(refused, 0);
 }
 
+// Found by tests/fuzz/fuzz_ekf.cpp: an information vector of 1e300 (finite) made the state
+// infinite.
+TEST(EkfWheelDrift, UpdateThatWouldOverflowTheStateIsRefused) {
+  cs::Ekf ekf(calibration(), drift_config(true));
+  prepare(ekf);
+  const Eigen::VectorXd x0 = ekf.state();
+  const Eigen::MatrixXd P0 = ekf.covariance();
+  auto m = mismatch(0.3, 0.05, 0.01, 1e6);  // z = v^T y / sqrt(l) overflows
+  m.information_vector << 1e308, -1e308;
+  EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(m, 0.0), cs::ObservationResult::kNotPositiveDefinite);
+  EXPECT_EQ(ekf.state(), x0);
+  EXPECT_EQ(ekf.covariance(), P0);
+}
+
 // Found by tests/fuzz/fuzz_ekf.cpp: a non-finite derivative of the increment in an odometry
 // error state, or a non-finite interval, reached the state and the bias variance.
 TEST(EkfWheelDrift, PredictRejectsNonFiniteOdometryStateInputs) {

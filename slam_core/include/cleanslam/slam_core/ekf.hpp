@@ -123,12 +123,14 @@ class Ekf {
   // result.
   void finish_update();
 
-  // Predicted distorted pixel of a landmark with its 2x2 covariance, for search regions.
+  // Predicted distorted pixel of a landmark with its 2x2 covariance (exactly symmetric), for
+  // search regions; false for an unused slot, a landmark behind the camera or a projection that
+  // overflows.
   bool predict_pixel(int slot, PixelPrediction& out) const;
 
   // Stacked pixel innovations (2m) and their joint covariance (2m x 2m, column-major) for JCBB.
   // Returns m, or -1 when an observation has an unused slot, a bad pixel or a landmark behind the
-  // camera, or count is outside [0, hal::kMaxObservationsPerFrame].
+  // camera, the result is not finite, or count is outside [0, hal::kMaxObservationsPerFrame].
   int joint_pixel_innovation(const Observation* obs, int count, double* nu, double* S) const;
 
   [[nodiscard]] Vector6d camera_pose() const { return x_.head<6>(); }
