@@ -28,8 +28,8 @@ Eigen::Matrix3d across(const Eigen::Vector3d& r) {
 
 // z = y_keep - y_drop = 0 with H = [.. I .. -I ..]: exactly linear, so the update's only error is
 // in the covariance the two estimates carry. P H^T is the difference of two column blocks. With
-// the kept entry considered, its rows of the gain are zero (Schmidt), and the covariance follows
-// the general form for that gain. Across the ray, z = T (y_keep - y_drop) with T's rows across
+// the kept entry considered, its rows of the gain are zero (Schmidt). The covariance follows the
+// form for any gain either way. Across the ray, z = T (y_keep - y_drop) with T's rows across
 // the camera's ray to y_drop and a zero third row: the dropped entry's depth (from a few
 // centimetres of parallax) does not enter, and the zero row leaves a third component with zero
 // gain.
@@ -103,21 +103,16 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
   x_.head(n).noalias() += K * nu;
   x_(3) = wrap_angle(x_(3));
   x_(5) = wrap_angle(x_(5));
-  if (config_.merge_considers_kept) {
-    // Any gain: P - K PHt^T - PHt K^T + K S K^T = P - K A^T - A K^T with A = PHt - K S / 2.
-    auto A = W_.block(0, 3, n, 3);
-    A = PHt;
-    A.noalias() -= 0.5 * K.lazyProduct(S);
-    for (int j = 0; j < n; ++j) {
-      P_.col(j).segment(j, n - j).noalias() -= K.bottomRows(n - j) * A.row(j).transpose();
-      P_.col(j).segment(j, n - j).noalias() -= A.bottomRows(n - j) * K.row(j).transpose();
-      P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
-    }
-  } else {
-    for (int j = 0; j < n; ++j) {
-      P_.col(j).segment(j, n - j).noalias() -= K.bottomRows(n - j) * PHt.row(j).transpose();
-      P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
-    }
+  // P - K PHt^T - PHt K^T + K S K^T = P - K A^T - A K^T with A = PHt - K S / 2. For the optimal
+  // gain too: P - K PHt^T passed K's rounding into P where S is ill-conditioned (a ray 660 m long
+  // merged, found by fuzzing) and left it indefinite.
+  auto A = W_.block(0, 3, n, 3);
+  A = PHt;
+  A.noalias() -= 0.5 * K.lazyProduct(S);
+  for (int j = 0; j < n; ++j) {
+    P_.col(j).segment(j, n - j).noalias() -= K.bottomRows(n - j) * A.row(j).transpose();
+    P_.col(j).segment(j, n - j).noalias() -= A.bottomRows(n - j) * K.row(j).transpose();
+    P_.row(j).segment(j + 1, n - j - 1) = P_.col(j).segment(j + 1, n - j - 1).transpose();
   }
   if (config_.invariant_reset) {
     begin_invariant_reset(n, dx_.head(n));
