@@ -17,6 +17,14 @@ if(CLEANSLAM_SANITIZE)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
+# libFuzzer builds (preset host-fuzz, clang): every object instrumented for coverage and the
+# sanitizers; the fuzz targets link libFuzzer's main (tests/fuzz).
+if(CLEANSLAM_LIBFUZZER)
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer
+                      -fno-sanitize-recover=all -g -O1)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
 # cleanslam_part(NAME ...) gives a project target the warnings; every part and tool uses it.
 function(cleanslam_warnings target)
   target_link_libraries(${target} PRIVATE cleanslam_warnings)

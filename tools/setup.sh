@@ -4,6 +4,7 @@
 # everything is there; loud, and non-zero, when something cannot be installed.
 #   tools/setup.sh              everything (tools/test.sh)
 #   tools/setup.sh --host-only  what a host build and the demo need (tools/demo.sh)
+#   tools/setup.sh --fuzz       that, and clang with libFuzzer (tools/fuzz.sh)
 set -euo pipefail
 
 demo_packages=(
@@ -16,11 +17,14 @@ host_packages=(
   qemu-system-arm busybox-static cpio kmod
 )
 arm64_packages=(libgtest-dev:arm64 libyaml-dev:arm64 libpng-dev:arm64 libgpiod-dev:arm64)
+fuzz_packages=(clang-14 libclang-rt-14-dev)
 host_only=0
+fuzz=0
 case "${1:-}" in
   "") ;;
   --host-only) host_only=1 ;;
-  *) echo "usage: tools/setup.sh [--host-only]" >&2; exit 2 ;;
+  --fuzz) host_only=1 fuzz=1 ;;
+  *) echo "usage: tools/setup.sh [--host-only | --fuzz]" >&2; exit 2 ;;
 esac
 
 say() { printf 'setup: %s\n' "$*" >&2; }
@@ -48,6 +52,9 @@ missing() {
 if [ "$host_only" -eq 1 ]; then
   host_packages=("${demo_packages[@]}")
   arm64_packages=()
+  if [ "$fuzz" -eq 1 ]; then
+    host_packages+=("${fuzz_packages[@]}")
+  fi
 elif ! dpkg --print-foreign-architectures | grep -qx arm64; then
   say "adding the arm64 architecture (multiarch libraries for the aarch64 cross build)"
   "${SUDO[@]}" dpkg --add-architecture arm64
