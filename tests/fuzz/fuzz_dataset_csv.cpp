@@ -68,5 +68,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       expect_rows_or_error(sh::read_lift_csv(path));
       break;
   }
+  std::remove(path.c_str());
   return 0;
 }
