@@ -11,7 +11,7 @@
 //    nothing) left x and P unchanged and was counted; a prediction leaves the map alone;
 //  - a second filter given the same calls with every update done at once agrees exactly
 //    whenever no update is pending (the chunked result equals the one-shot one).
-// reset() validates nothing, so it is only given a finite pose and a PSD covariance.
+// A reset with a hostile pose or covariance is refused (nothing changed) or takes a valid one.
 #include <algorithm>
 #include <array>
 #include <climits>
@@ -274,7 +274,7 @@ class Session {
         s.config.gyro_bias_state || s.config.distance_scale_state || s.config.wheel_drift_state ? 1
                                                                                                 : 0;
     max_slots_ = s.config.max_landmarks;
-    reset();
+    reset(false);
   }
 
   void run() {
@@ -361,7 +361,7 @@ class Session {
         break;
       case Op::kReset:
       case Op::kCount:
-        reset();
+        reset(hostile);
         break;
     }
   }
@@ -406,7 +406,7 @@ class Session {
     return obs;
   }
 
-  void reset() {
+  void reset(bool hostile) {
     Vector6d pose;
     pose(0) = in_.range(-5.0, 5.0);
     pose(1) = in_.range(-5.0, 5.0);
@@ -414,10 +414,21 @@ class Session {
     pose(3) = in_.range(-0.3, 0.3);
     pose(4) = in_.range(-1.5, 1.5);
     pose(5) = in_.range(-std::numbers::pi, std::numbers::pi);
-    const Matrix6d P0 = covariance(in_, -4.0, -0.5);
-    pending_.reset();
-    filter_.reset(pose, P0);
-    one_shot_.reset(pose, P0);
+    Matrix6d P0 = covariance(in_, -4.0, -0.5);
+    if (hostile) {
+      in_.corrupt({field(pose), field(P0)});
+    }
+    const Snapshot before = snapshot(filter_);
+    const bool done = filter_.reset(pose, P0);
+    expect(one_shot_.reset(pose, P0) == done, "reset: the two filters disagree");
+    expect(done || hostile, "reset: a finite pose and a PSD covariance refused");
+    if (done) {
+      pending_.reset();
+      expect(filter_.landmark_count() == 0 && !filter_.update_pending(),
+             "reset: the map or an update left");
+    } else {
+      expect(unchanged(before, filter_), "reset: refused, but the filter changed");
+    }
   }
 
   // Completes a pending update and checks its outcome.

@@ -18,13 +18,24 @@ bool finite2(double a, double b) {
   return std::isfinite(a) && std::isfinite(b);
 }
 
-// Positive semi-definite up to `tolerance`: the pivoted LDL^T's D has no entry below -tolerance
-// times its largest (a zero pivot, which LDLT reports as a numerical issue, is a semi-definite
-// matrix's).
+// A symmetric Q positive semi-definite up to `tolerance`: no eigenvalue below -tolerance times
+// the trace, which holds exactly when Q has a Cholesky factor once tolerance tr(Q) is added to its
+// diagonal. (The pivoted LDL^T's D is no
+// such test for a singular matrix: the dead reckoner's rank-deficient Q, whose eigenvalues are
+// above -5e-16 of its largest, gave D entries of -0.6 %.)
 bool positive_semidefinite(const Matrix6d& Q, double tolerance = 1e-9) {
-  const Eigen::LDLT<Matrix6d> ldlt(Q);
-  const Vector6d d = ldlt.vectorD();
-  return d.allFinite() && d.minCoeff() >= -tolerance * d.cwiseAbs().maxCoeff();
+  const double trace = Q.trace();
+  if (!std::isfinite(trace) || trace < 0.0) {
+    return false;
+  }
+  if (trace == 0.0) {
+    return Q.isZero(0.0);
+  }
+  Matrix6d shifted = Q;
+  shifted.diagonal().array() += tolerance * trace;
+  // A factorization that overflowed reports success with a NaN factor.
+  const Eigen::LLT<Matrix6d> llt(shifted);
+  return llt.info() == Eigen::Success && llt.matrixLLT().allFinite();
 }
 }  // namespace
 
@@ -83,11 +94,17 @@ Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
   reset(Vector6d::Zero(), Matrix6d::Zero());
 }
 
-void Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
+bool Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
+  const Matrix6d P0s = 0.5 * (P0 + P0.transpose());
+  if (!camera_pose.allFinite() || camera_pose.cwiseAbs().maxCoeff() > kMaxAbsState ||
+      !P0s.allFinite() || P0s.diagonal().maxCoeff() > kMaxVariance ||
+      P0s.diagonal().minCoeff() < 0.0 || !positive_semidefinite(P0s)) {
+    return false;
+  }
   x_.setZero();
   P_.setZero();
   x_.head<6>() = camera_pose;
-  P_.topLeftCorner<6, 6>() = 0.5 * (P0 + P0.transpose());
+  P_.topLeftCorner<6, 6>() = P0s;
   used_.fill(false);
   info_.fill(SlotInfo{});
   landmark_count_ = 0;
@@ -103,6 +120,30 @@ void Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
   status_ = UpdateStatus{};
   phase_ = UpdatePhase::kNone;
   m_ = 0;
+  return true;
+}
+
+bool Ekf::posterior_variance_ok(int i, double d) const {
+  if (i >= kPose && i < row_of(first_slot_)) {
+    const bool enabled = (i == kBiasRow && config_.gyro_bias_state) ||
+                         (i == kScaleRow && config_.distance_scale_state) ||
+                         (i == kDriftRow && config_.wheel_drift_state);
+    return !enabled || (d >= 0.0 && std::isfinite(d));
+  }
+  if (i >= kPose && !used_[static_cast<std::size_t>((i - kPose) / hal::kLandmarkDim)]) {
+    return true;
+  }
+  return d > config_.min_variance && std::isfinite(d);
+}
+
+bool Ekf::state_in_range(int n, const Eigen::Ref<const Eigen::VectorXd>& dx) const {
+  for (int i = 0; i < n; ++i) {
+    const double v = x_(i) + dx(i);
+    if (!(std::abs(v) <= kMaxAbsState)) {
+      return false;
+    }
+  }
+  return true;
 }
 
 bool Ekf::slot_used(int slot) const {
@@ -206,7 +247,7 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
   if (std::abs(x_(4)) > config_.max_abs_pitch_rad) {
     return reject(PredictResult::kPitchSingular);
   }
-  if ((Q.diagonal().array() < 0.0).any() || !positive_semidefinite(Q, 5e-2)) {
+  if ((Q.diagonal().array() < 0.0).any() || !positive_semidefinite(Q)) {
     return reject(PredictResult::kNotPositiveDefinite);
   }
   const Vector6d pose = x_.head<6>();
@@ -247,13 +288,15 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
           ? config_.gyro_bias_walk * config_.gyro_bias_walk * std::abs(u.dt_s)
           : 0.0;
   // A finite increment can still overflow (an increment of 1e300 m): nothing is changed then.
+  // So can one of 1e6 m or a variance of 1e12 m^2 leave the range (kMaxAbsState, kMaxVariance).
   if (!predicted.allFinite() || !Pn.allFinite() || !cross_.allFinite() ||
-      !std::isfinite(P_(kBiasRow, kBiasRow) + bias_walk_var)) {
+      !(predicted.cwiseAbs().maxCoeff() <= kMaxAbsState) ||
+      !(Pn.diagonal().maxCoeff() <= kMaxVariance) ||
+      !(P_(kBiasRow, kBiasRow) + bias_walk_var <= kMaxVariance)) {
     return reject(PredictResult::kNonFinite);
   }
-  // The dead reckoner's Q is itself slightly indefinite at times (D down to -0.6 % of its largest
-  // in the default room), so Q is refused only beyond -5 %; the predicted pose covariance never
-  // was indefinite, and a Q that would make it so is refused too.
+  // Semi-definite P and Q predict a semi-definite P; what rounding of extreme inputs leaves
+  // indefinite is refused.
   Pn = (0.5 * (Pn + Pn.transpose())).eval();
   if (!positive_semidefinite(Pn)) {
     return reject(PredictResult::kNotPositiveDefinite);
@@ -340,7 +383,8 @@ int Ekf::initialize_landmark(double u_px, double v_px, double depth_m, double ep
       ct, eps_ct_m, normal_noise(d, config_.eps_trk_px, config_.eps_cal_px, camera_.focal_px()));
   Eigen::Matrix3d Py = T * P_.topLeftCorner<6, 6>() * T.transpose() + C * Rv * C.transpose();
   Py = 0.5 * (Py + Py.transpose()).eval();  // eq. 40
-  if (!y.allFinite() || !Py.allFinite()) {
+  if (!y.allFinite() || !Py.allFinite() || !(y.cwiseAbs().maxCoeff() <= kMaxAbsState) ||
+      !(Py.diagonal().maxCoeff() <= kMaxVariance)) {
     return reject(ObservationResult::kNonFinite);
   }
   if (Eigen::LLT<Eigen::Matrix3d>(Py).info() != Eigen::Success) {
@@ -736,11 +780,8 @@ bool Ekf::gain_rows(int& row, int end) {
   V_.block(k, r0, k, rc) = W.leftCols(k).transpose();
   for (int i = r0; i < end; ++i) {
     row = i + 1;
-    if (i >= kPose && !used_[static_cast<std::size_t>((i - kPose) / 3)]) {
-      continue;
-    }
     const double d = P_(i, i) - W_.row(i).head(2 * k).dot(V_.col(i).head(2 * k));
-    if (!(d > config_.min_variance) || !std::isfinite(d)) {
+    if (!posterior_variance_ok(i, d)) {
       return false;
     }
   }
@@ -752,7 +793,7 @@ ObservationResult Ekf::gain_complete() {
   const int k = 3 * m_;
   dx_.resize(n);
   dx_.noalias() = W_.topLeftCorner(n, k) * nu_.head(k);  // eq. 25
-  if (!dx_.allFinite()) {
+  if (!dx_.allFinite() || !state_in_range(n, dx_)) {
     return ObservationResult::kNonFinite;
   }
   if (config_.depth_bounds && depth_bounds_violated(m_)) {

@@ -82,11 +82,8 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
     K.middleRows<3>(a).setZero();
   }
   for (int i = 0; i < n; ++i) {
-    if (i >= hal::kPoseDim && !used_[static_cast<std::size_t>((i - hal::kPoseDim) / 3)]) {
-      continue;
-    }
     const double d = P_(i, i) - K.row(i).dot(PHt.row(i));
-    if (!(d > config_.min_variance)) {
+    if (!posterior_variance_ok(i, d)) {
       return ObservationResult::kNotPositiveDefinite;
     }
   }
@@ -96,7 +93,7 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
   dx_.noalias() = K * nu;
   const double largest_product =
       K.cwiseAbs().maxCoeff() * std::max(PHt.cwiseAbs().maxCoeff(), S.cwiseAbs().maxCoeff());
-  if (!K.allFinite() || !(x_.head(n) + dx_).allFinite() || !(largest_product < 1e300)) {
+  if (!K.allFinite() || !state_in_range(n, dx_) || !(largest_product < 1e300)) {
     dx_.resize(kMaxStateDim);
     return ObservationResult::kNotPositiveDefinite;
   }

@@ -62,9 +62,9 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
     dx_ = K * nu;
     // An information of 1e200 leaves the posterior to rounding, one of 1e300 overflows the state:
     // S beyond kMaxInnovationVariance (the windows of a run reach about 1e5), a posterior
-    // variance below zero, or a state or a covariance product that is not finite refuses the
-    // update.
-    bool psd = S <= kMaxInnovationVariance && dx_.allFinite() && (x_.head(n) + dx_).allFinite() &&
+    // variance below zero, a state beyond kMaxAbsState or a covariance product that is not
+    // finite refuses the update.
+    bool psd = S <= kMaxInnovationVariance && dx_.allFinite() && state_in_range(n, dx_) &&
                K.cwiseAbs().maxCoeff() * PHt.cwiseAbs().maxCoeff() < 1e300;
     for (int j = 0; j < n && psd; ++j) {
       psd = P_(j, j) - K(j) * PHt(j) >= 0.0;

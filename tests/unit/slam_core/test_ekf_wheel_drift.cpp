@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "cleanslam/slam_core/ekf.hpp"
+#include "drift_filter.hpp"
 #include "symmetric_eigen.hpp"
 
 // The wheel drift state and Ekf::fuse_wheel_gyro_mismatch: z = b dt - c d + noise.
@@ -15,43 +16,17 @@ namespace hal = cleanslam::hal;
 
 namespace {
 
-constexpr double kBiasStd = 0.005;
-constexpr double kDriftStd = 0.5;
+constexpr double kDriftStd = cleanslam::test::kDriftFilterDriftStd;
 constexpr int kBias = hal::kPoseDim;
 constexpr int kDrift = hal::kPoseDim + 2;
-
-cs::EkfConfig drift_config(bool invariant_reset) {
-  cs::EkfConfig c;
-  c.gyro_bias_state = true;
-  c.gyro_bias_walk = 0.0005;
-  c.wheel_drift_state = true;
-  c.wheel_drift_std_rad_per_m = kDriftStd;
-  c.invariant_reset = invariant_reset;
-  return c;
-}
+using cleanslam::test::drift_config;
 
 hal::Calibration calibration() {
-  hal::Calibration cal;
-  cal.gyro.bias_instability = kBiasStd;
-  return cal;
+  return cleanslam::test::drift_calibration();
 }
 
-// A filter with a landmark and two increments that correlate pose, bias and drift with it.
 void prepare(cs::Ekf& ekf) {
-  cs::Vector6d pose;
-  pose << 0.3, -0.2, 0.1, 0.0, 0.0, 0.4;
-  ekf.reset(pose, cs::Matrix6d::Identity() * 1e-4);
-  ASSERT_GE(ekf.initialize_landmark(150.0, 110.0, 2.0, 0.3), 1);
-  for (int k = 0; k < 2; ++k) {
-    cs::OdometryIncrement u;
-    u.dx_c = Eigen::Vector3d(0.0, 0.0, 0.1);
-    u.dpsi_c = Eigen::Vector3d(0.0, -0.05, 0.0);
-    u.Q.diagonal() << 1e-4, 1e-5, 1e-4, 1e-6, 1e-5, 1e-6;
-    u.du_dbias << 0.0, 0.0, 0.0, 0.0, -0.5, 0.0;
-    u.du_ddrift << 0.002, 0.0, 0.0, 0.0, 0.07, 0.0;
-    u.dt_s = 0.5;
-    ASSERT_TRUE(ekf.predict(u).applied());
-  }
+  cleanslam::test::prepare_drift_filter(ekf);
 }
 
 cs::OdometryIncrement::WheelGyroMismatch mismatch(double z, double dt, double d, double var) {

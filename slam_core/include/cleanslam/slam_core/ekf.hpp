@@ -61,8 +61,17 @@ class Ekf {
   Ekf(const Ekf&) = delete;
   Ekf& operator=(const Ekf&) = delete;
 
-  // Camera pose (x, y, z, roll, pitch, yaw) and its covariance; the map is emptied.
-  void reset(const Vector6d& camera_pose, const Matrix6d& P0);
+  // The range the filter represents: no state entry beyond kMaxAbsState (m, rad, rad/s, rad/m)
+  // and no variance beyond kMaxVariance; a call whose result would leave it is refused. Far
+  // beyond any robot's workspace, they keep every product of the state's and P's entries, and
+  // their rounding, finite (inputs of 1e150 and beyond, found by fuzzing, overflowed them).
+  static constexpr double kMaxAbsState = 1e6;
+  static constexpr double kMaxVariance = 1e12;
+
+  // Camera pose (x, y, z, roll, pitch, yaw) and its covariance; the map is emptied. False, with
+  // nothing changed, for a pose or covariance not finite, out of range or not positive
+  // semi-definite.
+  bool reset(const Vector6d& camera_pose, const Matrix6d& P0);
 
   // Eq. 3-9.
   PredictStatus predict(const OdometryIncrement& u);
@@ -187,6 +196,12 @@ class Ekf {
   static constexpr int kScaleRow = hal::kPoseDim + 1;
   static constexpr int kDriftRow = hal::kPoseDim + 2;
   [[nodiscard]] bool valid_used_slot(int slot) const;
+  // The PSD guard of an update for row i's posterior variance d: above min_variance for the pose
+  // and used landmarks, not below zero for an enabled odometry error state (its calibration may
+  // give it none), anything for an unused row.
+  [[nodiscard]] bool posterior_variance_ok(int i, double d) const;
+  // Rows [0, n) of x + dx inside kMaxAbsState, and finite.
+  [[nodiscard]] bool state_in_range(int n, const Eigen::Ref<const Eigen::VectorXd>& dx) const;
   // Unit vector from the camera to the landmark and its length; false for an unused slot.
   bool ray_to(int slot, Eigen::Vector3d& u, double& depth) const;
   // Covariance of (y - x_vp, yaw) for a used slot (EkfConfig::second_order_yaw).

@@ -12,7 +12,7 @@ namespace cleanslam::slam_core {
 
 enum class ObservationResult : std::uint8_t {
   kFused = 0,
-  kNonFinite,            // pixel not finite
+  kNonFinite,            // pixel not finite, or a result beyond Ekf::kMaxAbsState or kMaxVariance
   kOutOfImage,           // pixel outside the image, or undistortion did not converge
   kBehindCamera,         // landmark not in front of the camera
   kGate,                 // chi-square test failed

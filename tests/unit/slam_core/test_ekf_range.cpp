@@ -1,0 +1,133 @@
+#include <limits>
+
+#include <gtest/gtest.h>
+#include <Eigen/Dense>
+
+#include "cleanslam/slam_core/ekf.hpp"
+#include "drift_filter.hpp"
+
+// The range the filter represents (Ekf::kMaxAbsState, Ekf::kMaxVariance): a call whose result
+// would leave it is refused, counted, and changes nothing. Found by tests/fuzz/fuzz_ekf.cpp:
+// finite inputs of 1e150 and beyond were taken in, and later products of them overflowed P or
+// rounded J P J^T below the pixel noise.
+namespace cs = cleanslam::slam_core;
+
+namespace {
+
+using cleanslam::test::drift_calibration;
+using cleanslam::test::prepare_drift_filter;
+
+cs::EkfConfig drift_config() {
+  return cleanslam::test::drift_config(false);
+}
+
+cs::Vector6d a_pose() {
+  cs::Vector6d pose;
+  pose << 0.3, -0.2, 0.1, 0.0, 0.0, 0.4;
+  return pose;
+}
+
+cs::OdometryIncrement a_step() {
+  cs::OdometryIncrement u;
+  u.dx_c = Eigen::Vector3d(0.0, 0.0, 0.1);
+  u.Q.diagonal().setConstant(1e-5);
+  u.dt_s = 0.5;
+  return u;
+}
+
+}  // namespace
+
+TEST(EkfRange, ResetRefusesAPoseOrCovarianceItCannotRepresent) {
+  cs::Ekf ekf(drift_calibration(), drift_config());
+  prepare_drift_filter(ekf);
+  const Eigen::VectorXd x0 = ekf.state();
+  const Eigen::MatrixXd P0 = ekf.covariance();
+  const cs::Matrix6d good = cs::Matrix6d::Identity() * 1e-4;
+
+  cs::Vector6d far = a_pose();
+  far(0) = 2.0 * cs::Ekf::kMaxAbsState;
+  cs::Vector6d nan_pose = a_pose();
+  nan_pose(5) = std::numeric_limits<double>::quiet_NaN();
+  cs::Matrix6d huge = good;
+  huge(2, 2) = 2.0 * cs::Ekf::kMaxVariance;
+  cs::Matrix6d indefinite = good;
+  indefinite(0, 1) = indefinite(1, 0) = 1e-3;  // correlation 10
+  cs::Matrix6d negative = good;
+  negative(4, 4) = -1e-6;
+  cs::Matrix6d infinite = good;
+  infinite(3, 3) = std::numeric_limits<double>::infinity();
+  cs::Matrix6d overflowing = good;  // its Cholesky factor overflows to NaN, reported as success
+  overflowing(3, 0) = overflowing(0, 3) = 1e307;
+
+  EXPECT_FALSE(ekf.reset(far, good));
+  EXPECT_FALSE(ekf.reset(nan_pose, good));
+  EXPECT_FALSE(ekf.reset(a_pose(), huge));
+  EXPECT_FALSE(ekf.reset(a_pose(), indefinite));
+  EXPECT_FALSE(ekf.reset(a_pose(), negative));
+  EXPECT_FALSE(ekf.reset(a_pose(), infinite));
+  EXPECT_FALSE(ekf.reset(a_pose(), overflowing));
+  EXPECT_EQ(ekf.state(), x0);
+  EXPECT_EQ(ekf.covariance(), P0);
+  EXPECT_EQ(ekf.landmark_count(), 1);
+
+  // A zero covariance (a pose taken as known) and a rank-deficient one are semi-definite.
+  cs::Matrix6d rank_one = cs::Matrix6d::Zero();
+  rank_one(0, 0) = rank_one(1, 1) = rank_one(0, 1) = rank_one(1, 0) = 1e-4;
+  EXPECT_TRUE(ekf.reset(a_pose(), rank_one));
+  EXPECT_TRUE(ekf.reset(a_pose(), cs::Matrix6d::Zero()));
+  EXPECT_EQ(ekf.landmark_count(), 0);
+}
+
+TEST(EkfRange, PredictionBeyondTheRangeIsRefused) {
+  cs::Ekf ekf(drift_calibration(), drift_config());
+  prepare_drift_filter(ekf);
+  const Eigen::VectorXd x0 = ekf.state();
+  const Eigen::MatrixXd P0 = ekf.covariance();
+  const std::uint64_t rejected = ekf.counters().predictions_rejected;
+
+  cs::OdometryIncrement far = a_step();
+  far.dx_c(2) = 2.0 * cs::Ekf::kMaxAbsState;
+  cs::OdometryIncrement uncertain = a_step();
+  uncertain.Q(0, 0) = 2.0 * cs::Ekf::kMaxVariance;
+  EXPECT_EQ(ekf.predict(far).result, cs::PredictResult::kNonFinite);
+  EXPECT_EQ(ekf.predict(uncertain).result, cs::PredictResult::kNonFinite);
+  EXPECT_EQ(ekf.state(), x0);
+  EXPECT_EQ(ekf.covariance(), P0);
+  EXPECT_EQ(ekf.counters().predictions_rejected, rejected + 2);
+
+  // Inside the range (a kilometre, a variance of 1e6 m^2) it is applied.
+  cs::OdometryIncrement long_step = a_step();
+  long_step.dx_c(2) = 1e3;
+  long_step.Q(0, 0) = 1e6;
+  EXPECT_TRUE(ekf.predict(long_step).applied());
+}
+
+TEST(EkfRange, LandmarkBeyondTheRangeIsNotInitialized) {
+  cs::Ekf ekf(drift_calibration(), drift_config());
+  prepare_drift_filter(ekf);
+  const Eigen::VectorXd x0 = ekf.state();
+  const Eigen::MatrixXd P0 = ekf.covariance();
+  const std::uint64_t non_finite = ekf.counters().rejections[cs::ObservationResult::kNonFinite];
+
+  EXPECT_EQ(ekf.initialize_landmark(160.0, 120.0, 2.0 * cs::Ekf::kMaxAbsState, 0.3), -1);
+  EXPECT_EQ(ekf.initialize_landmark(160.0, 120.0, 2.0, 1e7), -1);  // eps_ct^2 of 1e14 m^2
+  EXPECT_EQ(ekf.state(), x0);
+  EXPECT_EQ(ekf.covariance(), P0);
+  EXPECT_EQ(ekf.counters().rejections[cs::ObservationResult::kNonFinite], non_finite + 2);
+
+  // The paper's largest eps_ct (1000 m) is inside it.
+  EXPECT_GE(ekf.initialize_landmark(160.0, 120.0, 5.0, 1000.0), 0);
+}
+
+TEST(EkfRange, MismatchThatWouldMoveTheStateBeyondTheRangeIsRefused) {
+  cs::Ekf ekf(drift_calibration(), drift_config());
+  prepare_drift_filter(ekf);
+  const Eigen::VectorXd x0 = ekf.state();
+  const Eigen::MatrixXd P0 = ekf.covariance();
+  cs::OdometryIncrement::WheelGyroMismatch m;
+  m.add(0.3, 0.05, 0.01, 1e-6);
+  m.information_vector *= 1e12;  // finite, and a correction of about 1e9 rad/s of bias
+  EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(m, 0.0), cs::ObservationResult::kNotPositiveDefinite);
+  EXPECT_EQ(ekf.state(), x0);
+  EXPECT_EQ(ekf.covariance(), P0);
+}
