@@ -1,3 +1,4 @@
+#include <cstdint>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -126,7 +127,7 @@ TEST(EkfRange, MismatchThatWouldMoveTheStateBeyondTheRangeIsRefused) {
   const Eigen::MatrixXd P0 = ekf.covariance();
   cs::OdometryIncrement::WheelGyroMismatch m;
   m.add(0.3, 0.05, 0.01, 1e-6);
-  m.information_vector *= 1e12;  // finite, and a correction of about 1e9 rad/s of bias
+  m.information_vector *= 1e12;  // finite; the update would move the bias beyond the range
   EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(m, 0.0), cs::ObservationResult::kNotPositiveDefinite);
   EXPECT_EQ(ekf.state(), x0);
   EXPECT_EQ(ekf.covariance(), P0);
