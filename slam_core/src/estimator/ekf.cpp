@@ -20,9 +20,8 @@ bool finite2(double a, double b) {
 
 // A symmetric Q positive semi-definite up to `tolerance`: no eigenvalue below -tolerance times
 // the trace, which holds exactly when Q has a Cholesky factor once tolerance tr(Q) is added to its
-// diagonal. (The pivoted LDL^T's D is no
-// such test for a singular matrix: the dead reckoner's rank-deficient Q, whose eigenvalues are
-// above -5e-16 of its largest, gave D entries of -0.6 %.)
+// diagonal. (The pivoted LDL^T's D is no such test for a singular matrix: the dead reckoner's
+// rank-deficient Q, whose eigenvalues are above -5e-16 of its largest, gave D entries of -0.6 %.)
 bool positive_semidefinite(const Matrix6d& Q, double tolerance = 1e-9) {
   const double trace = Q.trace();
   if (!std::isfinite(trace) || trace < 0.0) {

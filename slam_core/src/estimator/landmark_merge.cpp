@@ -97,7 +97,7 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
     dx_.resize(kMaxStateDim);
     return ObservationResult::kNotPositiveDefinite;
   }
-  x_.head(n).noalias() += K * nu;
+  x_.head(n) += dx_;
   x_(3) = wrap_angle(x_(3));
   x_(5) = wrap_angle(x_(5));
   // P - K PHt^T - PHt K^T + K S K^T = P - K A^T - A K^T with A = PHt - K S / 2. For the optimal
