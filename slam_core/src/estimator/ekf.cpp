@@ -60,6 +60,8 @@ const char* to_string(ObservationResult r) {
       return "over_capacity";
     case ObservationResult::kDepthBound:
       return "depth_bound";
+    case ObservationResult::kOutOfRange:
+      return "out_of_range";
     case ObservationResult::kCount:
       break;
   }
@@ -289,10 +291,12 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
   // A finite increment can still overflow (an increment of 1e300 m): nothing is changed then.
   // So can one of 1e6 m or a variance of 1e12 m^2 leave the range (kMaxAbsState, kMaxVariance).
   if (!predicted.allFinite() || !Pn.allFinite() || !cross_.allFinite() ||
-      !(predicted.cwiseAbs().maxCoeff() <= kMaxAbsState) ||
-      !(Pn.diagonal().maxCoeff() <= kMaxVariance) ||
-      !(P_(kBiasRow, kBiasRow) + bias_walk_var <= kMaxVariance)) {
+      !std::isfinite(bias_walk_var)) {
     return reject(PredictResult::kNonFinite);
+  }
+  if (predicted.cwiseAbs().maxCoeff() > kMaxAbsState || Pn.diagonal().maxCoeff() > kMaxVariance ||
+      P_(kBiasRow, kBiasRow) + bias_walk_var > kMaxVariance) {
+    return reject(PredictResult::kOutOfRange);
   }
   // Semi-definite P and Q predict a semi-definite P; what rounding of extreme inputs leaves
   // indefinite is refused.
@@ -382,9 +386,11 @@ int Ekf::initialize_landmark(double u_px, double v_px, double depth_m, double ep
       ct, eps_ct_m, normal_noise(d, config_.eps_trk_px, config_.eps_cal_px, camera_.focal_px()));
   Eigen::Matrix3d Py = T * P_.topLeftCorner<6, 6>() * T.transpose() + C * Rv * C.transpose();
   Py = 0.5 * (Py + Py.transpose()).eval();  // eq. 40
-  if (!y.allFinite() || !Py.allFinite() || !(y.cwiseAbs().maxCoeff() <= kMaxAbsState) ||
-      !(Py.diagonal().maxCoeff() <= kMaxVariance)) {
+  if (!y.allFinite() || !Py.allFinite()) {
     return reject(ObservationResult::kNonFinite);
+  }
+  if (y.cwiseAbs().maxCoeff() > kMaxAbsState || Py.diagonal().maxCoeff() > kMaxVariance) {
+    return reject(ObservationResult::kOutOfRange);
   }
   if (Eigen::LLT<Eigen::Matrix3d>(Py).info() != Eigen::Success) {
     return reject(ObservationResult::kNotPositiveDefinite);
@@ -792,8 +798,11 @@ ObservationResult Ekf::gain_complete() {
   const int k = 3 * m_;
   dx_.resize(n);
   dx_.noalias() = W_.topLeftCorner(n, k) * nu_.head(k);  // eq. 25
-  if (!dx_.allFinite() || !state_in_range(n, dx_)) {
+  if (!dx_.allFinite()) {
     return ObservationResult::kNonFinite;
+  }
+  if (!state_in_range(n, dx_)) {
+    return ObservationResult::kOutOfRange;
   }
   if (config_.depth_bounds && depth_bounds_violated(m_)) {
     return ObservationResult::kDepthBound;

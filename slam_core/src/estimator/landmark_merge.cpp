@@ -93,9 +93,13 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
   dx_.noalias() = K * nu;
   const double largest_product =
       K.cwiseAbs().maxCoeff() * std::max(PHt.cwiseAbs().maxCoeff(), S.cwiseAbs().maxCoeff());
-  if (!K.allFinite() || !state_in_range(n, dx_) || !(largest_product < 1e300)) {
+  if (!K.allFinite() || !dx_.allFinite() || !(largest_product < 1e300)) {
     dx_.resize(kMaxStateDim);
     return ObservationResult::kNotPositiveDefinite;
+  }
+  if (!state_in_range(n, dx_)) {
+    dx_.resize(kMaxStateDim);
+    return ObservationResult::kOutOfRange;
   }
   x_.head(n) += dx_;
   x_(3) = wrap_angle(x_(3));

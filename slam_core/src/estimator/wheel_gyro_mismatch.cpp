@@ -37,7 +37,7 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
   }
   const int n = active_dim_;
   bool fused = false;
-  bool refused = false;
+  ObservationResult refusal = ObservationResult::kFused;
   for (int i = 1; i >= 0; --i) {
     const double l = eig.eigenvalues()(i);
     if (!(l > 1e-12 * largest)) {
@@ -64,13 +64,13 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
     // S beyond kMaxInnovationVariance (the windows of a run reach about 1e5), a posterior
     // variance below zero, a state beyond kMaxAbsState or a covariance product that is not
     // finite refuses the update.
-    bool psd = S <= kMaxInnovationVariance && dx_.allFinite() && state_in_range(n, dx_) &&
+    bool psd = S <= kMaxInnovationVariance && dx_.allFinite() &&
                K.cwiseAbs().maxCoeff() * PHt.cwiseAbs().maxCoeff() < 1e300;
     for (int j = 0; j < n && psd; ++j) {
       psd = P_(j, j) - K(j) * PHt(j) >= 0.0;
     }
-    if (!psd) {
-      refused = true;
+    if (!psd || !state_in_range(n, dx_)) {
+      refusal = psd ? ObservationResult::kOutOfRange : ObservationResult::kNotPositiveDefinite;
       dx_.resize(kMaxStateDim);
       continue;
     }
@@ -89,9 +89,9 @@ ObservationResult Ekf::fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGy
     dx_.resize(kMaxStateDim);
     fused = true;
   }
-  if (!fused && refused) {
-    counters_.rejections.add(ObservationResult::kNotPositiveDefinite);
-    return ObservationResult::kNotPositiveDefinite;
+  if (!fused && refusal != ObservationResult::kFused) {
+    counters_.rejections.add(refusal);
+    return refusal;
   }
   if (!fused) {
     ++counters_.wheel_gyro_mismatches_gated;

@@ -1,5 +1,7 @@
 #include <cstdint>
 #include <limits>
+#include <set>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
@@ -90,8 +92,8 @@ TEST(EkfRange, PredictionBeyondTheRangeIsRefused) {
   far.dx_c(2) = 2.0 * cs::Ekf::kMaxAbsState;
   cs::OdometryIncrement uncertain = a_step();
   uncertain.Q(0, 0) = 2.0 * cs::Ekf::kMaxVariance;
-  EXPECT_EQ(ekf.predict(far).result, cs::PredictResult::kNonFinite);
-  EXPECT_EQ(ekf.predict(uncertain).result, cs::PredictResult::kNonFinite);
+  EXPECT_EQ(ekf.predict(far).result, cs::PredictResult::kOutOfRange);
+  EXPECT_EQ(ekf.predict(uncertain).result, cs::PredictResult::kOutOfRange);
   EXPECT_EQ(ekf.state(), x0);
   EXPECT_EQ(ekf.covariance(), P0);
   EXPECT_EQ(ekf.counters().predictions_rejected, rejected + 2);
@@ -108,13 +110,16 @@ TEST(EkfRange, LandmarkBeyondTheRangeIsNotInitialized) {
   prepare_drift_filter(ekf);
   const Eigen::VectorXd x0 = ekf.state();
   const Eigen::MatrixXd P0 = ekf.covariance();
-  const std::uint64_t non_finite = ekf.counters().rejections[cs::ObservationResult::kNonFinite];
+  const cs::RejectionCounters before = ekf.counters().rejections;
 
   EXPECT_EQ(ekf.initialize_landmark(160.0, 120.0, 2.0 * cs::Ekf::kMaxAbsState, 0.3), -1);
   EXPECT_EQ(ekf.initialize_landmark(160.0, 120.0, 2.0, 1e7), -1);  // eps_ct^2 of 1e14 m^2
   EXPECT_EQ(ekf.state(), x0);
   EXPECT_EQ(ekf.covariance(), P0);
-  EXPECT_EQ(ekf.counters().rejections[cs::ObservationResult::kNonFinite], non_finite + 2);
+  EXPECT_EQ(ekf.counters().rejections[cs::ObservationResult::kOutOfRange],
+            before[cs::ObservationResult::kOutOfRange] + 2);
+  EXPECT_EQ(ekf.counters().rejections[cs::ObservationResult::kNonFinite],
+            before[cs::ObservationResult::kNonFinite]);
 
   // The paper's largest eps_ct (1000 m) is inside it.
   EXPECT_GE(ekf.initialize_landmark(160.0, 120.0, 5.0, 1000.0), 0);
@@ -128,7 +133,20 @@ TEST(EkfRange, MismatchThatWouldMoveTheStateBeyondTheRangeIsRefused) {
   cs::OdometryIncrement::WheelGyroMismatch m;
   m.add(0.3, 0.05, 0.01, 1e-6);
   m.information_vector *= 1e12;  // finite; the update would move the bias beyond the range
-  EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(m, 0.0), cs::ObservationResult::kNotPositiveDefinite);
+  const std::uint64_t out_of_range = ekf.counters().rejections[cs::ObservationResult::kOutOfRange];
+  EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(m, 0.0), cs::ObservationResult::kOutOfRange);
   EXPECT_EQ(ekf.state(), x0);
   EXPECT_EQ(ekf.covariance(), P0);
+  EXPECT_EQ(ekf.counters().rejections[cs::ObservationResult::kOutOfRange], out_of_range + 1);
+}
+
+// The run's summary lists the filter's refusals by these names.
+TEST(EkfRange, EveryRefusalHasANameOfItsOwn) {
+  std::set<std::string> names;
+  for (int i = 0; i < cs::kObservationResultCount; ++i) {
+    const std::string name = cs::to_string(static_cast<cs::ObservationResult>(i));
+    EXPECT_NE(name, "unknown") << i;
+    EXPECT_TRUE(names.insert(name).second) << name;
+  }
+  EXPECT_EQ(std::string(cs::to_string(cs::ObservationResult::kOutOfRange)), "out_of_range");
 }

@@ -88,8 +88,8 @@ class Ekf {
   // earlier map entry): the linear update with the constraint y_keep - y_drop = 0 (std. dev.
   // merge_std_m per axis), gated at gate_chi2 on its 3 dof (2 with EkfConfig::merge_across_ray;
   // none when not above 0), then drop is deleted (EkfConfig::merge_considers_kept: keep is a
-  // considered state). kFused when merged; kGate, kNotPositiveDefinite or kInvalidSlot (nothing
-  // changed) otherwise.
+  // considered state). kFused when merged; kGate, kNotPositiveDefinite, kOutOfRange or
+  // kInvalidSlot (nothing changed) otherwise.
   ObservationResult merge_landmarks(int keep, int drop, double gate_chi2,
                                     double merge_std_m = 0.01);
   // The last merge's test ratio (its innovation's squared Mahalanobis norm, 3 dof or 2 across the
@@ -100,8 +100,8 @@ class Ekf {
   // information about (b, c) (EkfConfig::wheel_drift_state): at most two scalar updates of the
   // whole state along the information's eigenvectors, each gated at gate_chi2 (none when not
   // above 0) and refused when it would leave a variance below zero. kFused when any passed;
-  // kGate (counted) when none did; kNonFinite, kNotPositiveDefinite (also when every one was
-  // refused) or kInvalidSlot (no drift or bias state, or no intervals): nothing changed.
+  // kGate (counted) when none did; kNonFinite, kNotPositiveDefinite or kOutOfRange (when every one
+  // was refused) or kInvalidSlot (no drift or bias state, or no intervals): nothing changed.
   // last_mismatch() holds each scalar update's status; the test ratio is the larger of the two, -1
   // without any.
   ObservationResult fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGyroMismatch& m,

@@ -12,7 +12,7 @@ namespace cleanslam::slam_core {
 
 enum class ObservationResult : std::uint8_t {
   kFused = 0,
-  kNonFinite,            // pixel not finite, or a result beyond Ekf::kMaxAbsState or kMaxVariance
+  kNonFinite,            // pixel, or a result, not finite
   kOutOfImage,           // pixel outside the image, or undistortion did not converge
   kBehindCamera,         // landmark not in front of the camera
   kGate,                 // chi-square test failed
@@ -21,6 +21,7 @@ enum class ObservationResult : std::uint8_t {
   kInvalidSlot,          // slot out of range or not in use, or observed twice in one frame
   kOverCapacity,         // more observations than hal::kMaxObservationsPerFrame
   kDepthBound,           // the update would move the landmark behind the camera or past max depth
+  kOutOfRange,           // a result beyond Ekf::kMaxAbsState or Ekf::kMaxVariance
   kCount
 };
 
@@ -77,7 +78,8 @@ enum class PredictResult : std::uint8_t {
   kApplied = 0,
   kNonFinite,
   kPitchSingular,
-  kNotPositiveDefinite
+  kNotPositiveDefinite,
+  kOutOfRange  // the predicted pose or a variance beyond Ekf::kMaxAbsState or Ekf::kMaxVariance
 };
 
 struct PredictStatus {
