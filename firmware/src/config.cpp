@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/hal/capacities.hpp"
 #include "cleanslam/sim_hal/dataset.hpp"
 #include "cleanslam/sim_hal/yaml_document.hpp"
@@ -80,6 +81,9 @@ void read_calibration(Section c, hal::Calibration& cal) {
     cal.camera.cy = cam.number("cy", cal.camera.cy, -1e4, 1e4);
     cam.numbers("distortion", cal.camera.distortion);
     cam.numbers("T_body_cam", cal.camera.T_body_cam);
+    if (const char* bad = hal::camera_mount_error(cal.camera.T_body_cam)) {
+      cam.error("T_body_cam", bad);
+    }
     cal.camera.pixel_noise = cam.number("pixel_noise", cal.camera.pixel_noise, 0.0, 100.0, true);
     cal.camera.time_offset_s = cam.number("time_offset_s", cal.camera.time_offset_s, -1.0, 1.0);
     cam.done();

@@ -8,30 +8,6 @@
 #include "cleanslam/sim_hal/yaml_document.hpp"
 
 namespace cleanslam::sim_hal {
-namespace {
-
-// The rotation block must be orthonormal with determinant +1 and the last row 0 0 0 1.
-std::string check_transform(const std::array<double, 16>& t) {
-  if (t[12] != 0.0 || t[13] != 0.0 || t[14] != 0.0 || t[15] != 1.0) {
-    return "last row must be 0 0 0 1";
-  }
-  constexpr double kTol = 1e-4;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      double dot = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        dot += t[static_cast<std::size_t>(4 * k + i)] * t[static_cast<std::size_t>(4 * k + j)];
-      }
-      if (std::abs(dot - (i == j ? 1.0 : 0.0)) > kTol) return "rotation block is not orthonormal";
-    }
-  }
-  const double det = t[0] * (t[5] * t[10] - t[6] * t[9]) - t[1] * (t[4] * t[10] - t[6] * t[8]) +
-                     t[2] * (t[4] * t[9] - t[5] * t[8]);
-  if (det < 0.0) return "rotation block has determinant -1 (a reflection)";
-  return {};
-}
-
-}  // namespace
 
 std::string format_double(double v) {
   // Plain decimal (shortest round trip) where it is not absurdly long, so that other YAML and
@@ -97,8 +73,7 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
     const auto t = cam.required_doubles("T_body_cam", 16);
     if (t.size() == 16) {
       std::copy(t.begin(), t.end(), c.camera.T_body_cam.begin());
-      const std::string bad = check_transform(c.camera.T_body_cam);
-      if (!bad.empty()) {
+      if (const char* bad = hal::camera_mount_error(c.camera.T_body_cam)) {
         diag.errors.push_back((tnode != nullptr ? tnode->location.str() : file_name) +
                               ": camera.T_body_cam: " + bad);
       }

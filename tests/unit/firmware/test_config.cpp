@@ -92,6 +92,27 @@ TEST(Config, WrongTypeOrRangeNamesFileLineAndKey) {
   EXPECT_NE(all.find("robot.yaml:7: source.kind"), std::string::npos) << all;
 }
 
+// A camera mount that is not a rigid transform on the robot (a 2 in the rotation, a lever arm of
+// 10000 km) is refused with the key's location: before this check, runs with either went through
+// with every landmark out of the image or behind the camera.
+TEST(Config, CameraMountMustBeARigidTransformOnTheRobot) {
+  const auto error_of = [](const std::string& row0) {
+    const ConfigResult r = parse_config("calibration:\n  camera:\n    T_body_cam: [" + row0 +
+                                            ", -1, 0, 0, 0,  0, -1, 0, 0.1,  0, 0, 0, 1]\n",
+                                        "robot.yaml", {});
+    return joined(r.errors);
+  };
+  EXPECT_EQ(error_of("0, 0, 1, 0.1"), "");
+  EXPECT_NE(
+      error_of("0, 0, 2, 0.1")
+          .find("robot.yaml:3: calibration.camera.T_body_cam: rotation block is not orthonormal"),
+      std::string::npos)
+      << error_of("0, 0, 2, 0.1");
+  EXPECT_NE(error_of("0, 0, 1, 1e7").find("calibration.camera.T_body_cam: translation more than"),
+            std::string::npos)
+      << error_of("0, 0, 1, 1e7");
+}
+
 TEST(Config, UnknownKeysWarnWithTheirLocation) {
   const ConfigResult r = parse_config("loop:\n  publish_rate: 10\nfiltre: {}\n", "w.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);

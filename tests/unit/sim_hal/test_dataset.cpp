@@ -280,6 +280,14 @@ TEST(Dataset, BadTransformIsRefused) {
       contains(load_error(dir.str()), "camera.T_body_cam: rotation block is not orthonormal"));
 }
 
+TEST(Dataset, CameraFarFromTheBodyIsRefused) {
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "sensors.yaml", "[0.0, 0.0, 1.0, 0.1,", "[0.0, 0.0, 1.0, 1e7,");
+  EXPECT_TRUE(contains(load_error(dir.str()),
+                       "camera.T_body_cam: translation more than 10 m from the body's origin"));
+}
+
 TEST(Dataset, ImagesRoundTripAsPgmAndPng) {
   TempDir dir;
   const auto img = pattern(40, 30, 5);
