@@ -35,7 +35,10 @@ std::unique_ptr<cs::Ekf> make_filter(int landmarks, bool invariant_reset = false
   config.gyro_bias_state = wheel_drift_state;
   config.wheel_drift_state = wheel_drift_state;
   auto ekf = std::make_unique<cs::Ekf>(calibration, config);
-  ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6);
+  if (!ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6)) {
+    std::fprintf(stderr, "bench_estimator: the filter refused its start\n");
+    std::abort();
+  }
   for (int i = 0; ekf->landmark_count() < landmarks && i < 10 * hal::kMaxLandmarks; ++i) {
     if (i % 10 == 0) {
       ekf->predict(step_increment());

@@ -92,7 +92,7 @@ Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
   dx_.setZero(kMaxStateDim);
   reset_v_.setZero(kMaxStateDim);
   reset_yaw_col_.setZero(kMaxStateDim);
-  reset(Vector6d::Zero(), Matrix6d::Zero());
+  start(Vector6d::Zero(), Matrix6d::Zero());
 }
 
 bool Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
@@ -102,6 +102,11 @@ bool Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
       P0s.diagonal().minCoeff() < 0.0 || !positive_semidefinite(P0s)) {
     return false;
   }
+  start(camera_pose, P0s);
+  return true;
+}
+
+void Ekf::start(const Vector6d& camera_pose, const Matrix6d& P0s) {
   x_.setZero();
   P_.setZero();
   x_.head<6>() = camera_pose;
@@ -121,7 +126,6 @@ bool Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
   status_ = UpdateStatus{};
   phase_ = UpdatePhase::kNone;
   m_ = 0;
-  return true;
 }
 
 bool Ekf::posterior_variance_ok(int i, double d) const {

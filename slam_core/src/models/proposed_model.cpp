@@ -60,7 +60,10 @@ ModelStatus ProposedModel::initialize(const KnownPose& pose, const Eigen::Vector
   if (!is_finite(pose) || !pixel.allFinite()) {
     return counted(ModelStatus::kNonFiniteInput);
   }
-  ekf_.reset(camera_pose_vector(pose), Matrix6d::Zero());
+  if (!ekf_.reset(camera_pose_vector(pose), Matrix6d::Zero())) {
+    slot_ = -1;
+    return counted(ModelStatus::kRejectedByFilter);
+  }
   slot_ = ekf_.initialize_landmark(pixel.x(), pixel.y());
   pose_ = pose;
   return slot_ >= 0 ? ModelStatus::kOk : counted(ModelStatus::kRejectedByFilter);
@@ -103,14 +106,14 @@ BatchResult proposed_one_step_batch(Ekf& ekf, const Pinhole& camera, const Known
                                     const KnownPose& second,
                                     const std::array<Eigen::Vector3d, kFig8Landmarks>& landmarks) {
   BatchResult result;
-  ekf.reset(camera_pose_vector(first), Matrix6d::Zero());
+  const bool reset = ekf.reset(camera_pose_vector(first), Matrix6d::Zero());
   std::array<Observation, kFig8Landmarks> observations{};
   std::array<int, kFig8Landmarks> slot_of{};
   slot_of.fill(-1);
   int count = 0;
   for (std::size_t i = 0; i < kFig8Landmarks; ++i) {
     Eigen::Vector2d pixel;
-    if (!observe(camera, first, landmarks[i], pixel)) {
+    if (!reset || !observe(camera, first, landmarks[i], pixel)) {
       continue;
     }
     const int slot = ekf.initialize_landmark(pixel.x(), pixel.y());
@@ -120,7 +123,7 @@ BatchResult proposed_one_step_batch(Ekf& ekf, const Pinhole& camera, const Known
     slot_of[i] = slot;
     observations[static_cast<std::size_t>(count++)] = Observation{slot, pixel.x(), pixel.y()};
   }
-  if (ekf.predict(translation_increment(first, second)).applied()) {
+  if (reset && ekf.predict(translation_increment(first, second)).applied()) {
     result.fused = ekf.update(observations.data(), count).fused;
   }
   double sum = 0.0;
@@ -148,7 +151,9 @@ NoisyRunResult proposed_noisy_run(Ekf& ekf, const NoisyRunParams& params,
   std::normal_distribution<double> pixel_noise(0.0, params.pixel_noise_px);
   std::normal_distribution<double> yaw_noise(0.0, params.yaw_noise_rad);
   KnownPose truth;
-  ekf.reset(camera_pose_vector(truth), Matrix6d::Zero());
+  if (!ekf.reset(camera_pose_vector(truth), Matrix6d::Zero())) {
+    return result;
+  }
   std::array<int, kFig8Landmarks> slots{};
   for (std::size_t i = 0; i < kFig8Landmarks; ++i) {
     Eigen::Vector2d pixel;

@@ -172,7 +172,7 @@ TEST(EstimatorAllocation, EkfLongRunAllocatesNothing) {
   calibration.camera.distortion = {-0.1, 0.02, 0.0005, -0.0003};
   auto ekf = std::make_unique<cs::Ekf>(calibration, cs::EkfConfig{});
   cs::Matrix6d P0 = cs::Matrix6d::Identity() * 1e-6;
-  ekf->reset(cs::Vector6d::Zero(), P0);
+  EXPECT_TRUE(ekf->reset(cs::Vector6d::Zero(), P0));
   EkfRun run;
   run.ekf = ekf.get();
   const std::size_t stack = run_with_small_stack(run);
@@ -193,7 +193,7 @@ TEST(EstimatorAllocation, EkfChunkedUpdatesAllocateNothing) {
   auto ekf = std::make_unique<cs::Ekf>(calibration, cs::EkfConfig{});
   ekf->set_update_step(20000);
   cs::Matrix6d P0 = cs::Matrix6d::Identity() * 1e-6;
-  ekf->reset(cs::Vector6d::Zero(), P0);
+  EXPECT_TRUE(ekf->reset(cs::Vector6d::Zero(), P0));
   EkfRun run;
   run.ekf = ekf.get();
   const std::size_t stack = run_with_small_stack(run);
@@ -214,7 +214,7 @@ std::unique_ptr<cs::Ekf> expect_no_allocation(const hal::Calibration& calibratio
   for (const std::int64_t step : steps) {
     ekf = std::make_unique<cs::Ekf>(calibration, config);
     ekf->set_update_step(step);
-    ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6);
+    EXPECT_TRUE(ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6));
     EkfRun run;
     run.ekf = ekf.get();
     run_with_small_stack(run);
@@ -265,7 +265,7 @@ TEST(EstimatorAllocation, EkfWithGyroBiasStateAndPoseGivenYoungTestAllocatesNoth
   config.gyro_bias_walk = 0.0005;
   config.young_depth_given_pose = true;
   auto ekf = std::make_unique<cs::Ekf>(calibration, config);
-  ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6);
+  EXPECT_TRUE(ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6));
   EkfRun run;
   run.ekf = ekf.get();
   run_with_small_stack(run);

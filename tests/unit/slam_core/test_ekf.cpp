@@ -30,7 +30,7 @@ class EkfTest : public ::testing::Test {
     ekf_ = std::make_unique<cs::Ekf>(calibration_, config);
     cs::Vector6d pose;
     pose << 0.3, -0.2, 0.1, 0.01, -0.02, 0.4;
-    ekf_->reset(pose, initial_covariance());
+    ASSERT_TRUE(ekf_->reset(pose, initial_covariance()));
   }
   // Pixel of a world point seen from the filter's current camera pose.
   Eigen::Vector2d pixel_of(const Eigen::Vector3d& world) const {
@@ -453,7 +453,7 @@ TEST_F(EkfTest, BodyPoseEstimateGoesThroughExtrinsic) {
   level << 1.0, 2.0, 0.08, 0.0, 0.0, 0.4;
   cs::Matrix6d P = cs::Matrix6d::Zero();
   P(5, 5) = 0.01;
-  ekf_->reset(level, P);
+  ASSERT_TRUE(ekf_->reset(level, P));
   const hal::PoseEstimate e2 = ekf_->body_pose_estimate(0);
   // x_b = x_c - 0.1 cos(yaw), y_b = y_c - 0.1 sin(yaw): only the lever arm carries yaw variance.
   EXPECT_NEAR(e2.position_m[0], 1.0 - 0.1 * std::cos(0.4), 1e-12);

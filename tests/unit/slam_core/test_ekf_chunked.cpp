@@ -30,7 +30,7 @@ class EkfChunkedTest : public ::testing::Test {
       pose << 0.3, -0.2, 0.1, 0.01, -0.02, 0.4;
       cs::Vector6d d;
       d << 1e-4, 1e-4, 1e-6, 1e-6, 1e-6, 1e-4;
-      e->reset(pose, d.asDiagonal());
+      EXPECT_TRUE(e->reset(pose, d.asDiagonal()));
     }
   }
   void both(void (*fn)(cs::Ekf&)) {
@@ -234,7 +234,7 @@ TEST_F(EkfChunkedTest, CallsThatChangeTheFilterFinishAPendingUpdateFirst) {
 
   chunked_->update(obs.data(), m2);
   ASSERT_TRUE(chunked_->update_pending());
-  chunked_->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity());
+  EXPECT_TRUE(chunked_->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity()));
   EXPECT_FALSE(chunked_->update_pending());
   EXPECT_EQ(chunked_->landmark_count(), 0);
 }

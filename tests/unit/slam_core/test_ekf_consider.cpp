@@ -23,7 +23,7 @@ std::unique_ptr<cs::Ekf> make_ekf(const cs::EkfConfig& config) {
   pose << 0.3, -0.2, 0.1, 0.01, -0.02, 0.4;
   cs::Vector6d d;
   d << 1e-4, 1e-4, 1e-6, 1e-6, 1e-6, 1e-4;
-  ekf->reset(pose, d.asDiagonal());
+  EXPECT_TRUE(ekf->reset(pose, d.asDiagonal()));
   return ekf;
 }
 

@@ -96,7 +96,7 @@ RunResult run_once(std::uint32_t seed, bool known_depth, double young_fraction) 
   for (int i = 0; i < 6; ++i) {
     start(i) += p0_sigma(i) * gauss(rng);
   }
-  ekf->reset(start, P0);
+  EXPECT_TRUE(ekf->reset(start, P0));
 
   std::vector<int> slot_of(world.size(), -1);
   std::array<int, hal::kMaxLandmarks> owner{};

@@ -30,7 +30,7 @@ std::unique_ptr<cs::Ekf> make_ekf(bool invariant_reset) {
   pose << 0.3, -0.2, 0.1, 0.01, -0.02, 0.4;
   cs::Vector6d d;
   d << 4e-2, 4e-2, 1e-4, 1e-4, 1e-4, 2e-2;
-  ekf->reset(pose, d.asDiagonal());
+  EXPECT_TRUE(ekf->reset(pose, d.asDiagonal()));
   return ekf;
 }
 

@@ -47,7 +47,7 @@ class EkfMergeTest : public ::testing::Test {
     P0(0, 5) = P0(5, 0) = 0.002;
     cs::Vector6d pose = cs::Vector6d::Zero();
     pose << 0.3, -0.2, 0.1, 0.0, 0.0, 0.4;
-    ekf_.reset(pose, P0);
+    EXPECT_TRUE(ekf_.reset(pose, P0));
   }
 
   // Three landmarks: keep (depth known to 0.3 m), another, and drop, a second sighting of keep's

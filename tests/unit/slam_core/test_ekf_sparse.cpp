@@ -25,7 +25,7 @@ std::unique_ptr<cs::Ekf> make_ekf(const cs::EkfConfig& config, double pose_var =
   auto ekf = std::make_unique<cs::Ekf>(calibration, config);
   cs::Vector6d pose;
   pose << 0.3, -0.2, 0.1, 0.01, -0.02, 0.4;
-  ekf->reset(pose, cs::Matrix6d::Identity() * pose_var);
+  EXPECT_TRUE(ekf->reset(pose, cs::Matrix6d::Identity() * pose_var));
   return ekf;
 }
 
@@ -99,7 +99,7 @@ TEST(EkfOdometryStates, PredictionPropagatesPoseBiasScaleAndDriftWithTheNumerica
   cs::Ekf ekf(calibration, config);
   cs::Vector6d pose0;
   pose0 << 0.3, -0.2, 0.1, 0.01, -0.02, 0.4;
-  ekf.reset(pose0, cs::Matrix6d::Identity() * 1e-4);
+  EXPECT_TRUE(ekf.reset(pose0, cs::Matrix6d::Identity() * 1e-4));
   using Vector9d = Eigen::Matrix<double, 9, 1>;
   using Matrix9d = Eigen::Matrix<double, 9, 9>;
   Matrix9d P = Matrix9d::Zero();
@@ -149,7 +149,7 @@ TEST(EkfDistanceScale, AloneItTakesSlotZeroAndLeavesTheBiasAtZero) {
   cs::EkfConfig config;
   config.distance_scale_state = true;
   cs::Ekf ekf(calibration, config);
-  ekf.reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-4);
+  EXPECT_TRUE(ekf.reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-4));
   EXPECT_NEAR(ekf.distance_scale_variance(), 0.04, 1e-15);
   EXPECT_EQ(ekf.gyro_bias_variance(), 0.0);
   EXPECT_EQ(ekf.initialize_landmark(100.0, 80.0), 1);

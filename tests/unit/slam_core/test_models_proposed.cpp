@@ -64,6 +64,23 @@ TEST(ProposedModel, RejectsBadInputAndRotations) {
   EXPECT_EQ(model.rejections().unsupported_motion, 1U);
 }
 
+// A pose the filter cannot represent (2000 km away) is refused by Ekf::reset: the landmark must
+// not be placed from the filter's previous pose instead.
+TEST(ProposedModel, APoseTheFilterRefusesInitializesNothing) {
+  const ProposedParams params{Pinhole{}, 1000.0, 0.005, 10.0, 1e12};
+  const auto ekf = make_ekf(params);
+  ProposedModel model(*ekf);
+  const ComparisonSetup s = fig10_setup(Motion::kForward, 8.0);
+  Eigen::Vector2d pixel;
+  ASSERT_TRUE(observe(Pinhole{}, s.first, s.landmark, pixel));
+  ASSERT_EQ(model.initialize(s.first, pixel), ModelStatus::kOk);
+  KnownPose far = s.first;
+  far.position_w.x() = 2.0 * Ekf::kMaxAbsState;
+  EXPECT_EQ(model.initialize(far, pixel), ModelStatus::kRejectedByFilter);
+  EXPECT_EQ(model.update(s.second, pixel), ModelStatus::kNotInitialized);
+  EXPECT_EQ(model.rejections().rejected_by_filter, 1U);
+}
+
 TEST(ProposedFig8, ZeroErrorAtZeroDepthDifference) {
   const KnownPose first;
   const KnownPose second = moved_pose(first, Motion::kForward, 0.15);

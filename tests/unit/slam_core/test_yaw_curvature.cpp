@@ -97,7 +97,7 @@ TEST(YawCurvature, TheEkfAddsItToTheInnovationCovarianceOnlyWhenConfigured) {
     cs::EkfConfig config;
     config.second_order_yaw = second_order;
     auto ekf = std::make_unique<cs::Ekf>(calibration, config);
-    ekf->reset(a_pose(), P0);
+    EXPECT_TRUE(ekf->reset(a_pose(), P0));
     EXPECT_EQ(ekf->initialize_landmark(170.0, 110.0), 0);
     return ekf;
   };

@@ -71,7 +71,7 @@ class Ekf {
   // Camera pose (x, y, z, roll, pitch, yaw) and its covariance; the map is emptied. False, with
   // nothing changed, for a pose or covariance not finite, out of range or not positive
   // semi-definite.
-  bool reset(const Vector6d& camera_pose, const Matrix6d& P0);
+  [[nodiscard]] bool reset(const Vector6d& camera_pose, const Matrix6d& P0);
 
   // Eq. 3-9.
   PredictStatus predict(const OdometryIncrement& u);
@@ -195,6 +195,8 @@ class Ekf {
   static constexpr int kBiasRow = hal::kPoseDim;
   static constexpr int kScaleRow = hal::kPoseDim + 1;
   static constexpr int kDriftRow = hal::kPoseDim + 2;
+  // reset() without its checks: P0s symmetric, the pose and P0s inside the range.
+  void start(const Vector6d& camera_pose, const Matrix6d& P0s);
   [[nodiscard]] bool valid_used_slot(int slot) const;
   // The PSD guard of an update for row i's posterior variance d: above min_variance for the pose
   // and used landmarks, not below zero for an enabled odometry error state (its calibration may
