@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "cleanslam/hal/calibration.hpp"
+#include "cleanslam/hal/calibration_limits.hpp"
 #include "cleanslam/hal/capacities.hpp"
 #include "cleanslam/sim_hal/dataset.hpp"
 #include "cleanslam/sim_hal/yaml_document.hpp"
@@ -29,6 +30,9 @@ class Section {
       return fallback;
     }
     return v;
+  }
+  double number(const char* key, double fallback, hal::calibration_limits::Limit limit) {
+    return number(key, fallback, limit.lo, limit.hi, limit.lo_open);
   }
   int integer(const char* key, int fallback, std::int64_t lo, std::int64_t hi) {
     const std::int64_t v = m_.optional_int(key, fallback);
@@ -66,6 +70,8 @@ class Section {
   yaml::Diagnostics& d_;
 };
 
+namespace lim = hal::calibration_limits;
+
 hal::TimeNs seconds(double s) {
   return static_cast<hal::TimeNs>(std::llround(s * 1e9));
 }
@@ -75,37 +81,45 @@ void read_calibration(Section c, hal::Calibration& cal) {
     Section cam = c.sub("camera");
     cal.camera.width = cam.integer("width", cal.camera.width, 1, hal::kImageWidth);
     cal.camera.height = cam.integer("height", cal.camera.height, 1, hal::kImageHeight);
-    cal.camera.fx = cam.number("fx", cal.camera.fx, 0.0, 1e5, true);
-    cal.camera.fy = cam.number("fy", cal.camera.fy, 0.0, 1e5, true);
-    cal.camera.cx = cam.number("cx", cal.camera.cx, -1e4, 1e4);
-    cal.camera.cy = cam.number("cy", cal.camera.cy, -1e4, 1e4);
+    cal.camera.fx = cam.number("fx", cal.camera.fx, lim::kFocalPx);
+    cal.camera.fy = cam.number("fy", cal.camera.fy, lim::kFocalPx);
+    cal.camera.cx = cam.number("cx", cal.camera.cx, lim::kPrincipalPointPx);
+    cal.camera.cy = cam.number("cy", cal.camera.cy, lim::kPrincipalPointPx);
     cam.numbers("distortion", cal.camera.distortion);
+    for (const double k : cal.camera.distortion) {
+      if (!lim::kDistortion.contains(k)) {
+        cam.error("distortion", lim::out_of_range(k, lim::kDistortion));
+        break;
+      }
+    }
     cam.numbers("T_body_cam", cal.camera.T_body_cam);
     if (const char* bad = hal::camera_mount_error(cal.camera.T_body_cam)) {
       cam.error("T_body_cam", bad);
     }
-    cal.camera.pixel_noise = cam.number("pixel_noise", cal.camera.pixel_noise, 0.0, 100.0, true);
-    cal.camera.time_offset_s = cam.number("time_offset_s", cal.camera.time_offset_s, -1.0, 1.0);
+    cal.camera.pixel_noise = cam.number("pixel_noise", cal.camera.pixel_noise, lim::kPixelNoisePx);
+    cal.camera.time_offset_s =
+        cam.number("time_offset_s", cal.camera.time_offset_s, lim::kTimeOffsetS);
     cam.done();
   }
   {
     Section w = c.sub("wheels");
     auto& wh = cal.wheels;
     wh.ticks_per_meter_left =
-        w.number("ticks_per_meter_left", wh.ticks_per_meter_left, 0, 1e7, true);
+        w.number("ticks_per_meter_left", wh.ticks_per_meter_left, lim::kTicksPerMeter);
     wh.ticks_per_meter_right =
-        w.number("ticks_per_meter_right", wh.ticks_per_meter_right, 0, 1e7, true);
-    wh.wheel_base = w.number("wheel_base", wh.wheel_base, 0.0, 10.0, true);
-    wh.distance_noise = w.number("distance_noise", wh.distance_noise, 0.0, 1.0);
-    wh.scale_error = w.number("scale_error", wh.scale_error, 0.0, 1.0);
+        w.number("ticks_per_meter_right", wh.ticks_per_meter_right, lim::kTicksPerMeter);
+    wh.wheel_base = w.number("wheel_base", wh.wheel_base, lim::kWheelBaseM);
+    wh.distance_noise = w.number("distance_noise", wh.distance_noise, lim::kFraction);
+    wh.scale_error = w.number("scale_error", wh.scale_error, lim::kFraction);
     w.done();
   }
   {
     Section g = c.sub("gyro");
-    cal.gyro.noise_density = g.number("noise_density", cal.gyro.noise_density, 0.0, 1.0, true);
-    cal.gyro.bias_instability = g.number("bias_instability", cal.gyro.bias_instability, 0.0, 1.0);
-    cal.gyro.scale_error = g.number("scale_error", cal.gyro.scale_error, 0.0, 1.0);
-    cal.gyro.bias_walk = g.number("bias_walk", cal.gyro.bias_walk, 0.0, 1.0);
+    cal.gyro.noise_density = g.number("noise_density", cal.gyro.noise_density, lim::kNoiseDensity);
+    cal.gyro.bias_instability =
+        g.number("bias_instability", cal.gyro.bias_instability, lim::kGyroBias);
+    cal.gyro.scale_error = g.number("scale_error", cal.gyro.scale_error, lim::kFraction);
+    cal.gyro.bias_walk = g.number("bias_walk", cal.gyro.bias_walk, lim::kGyroBias);
     g.done();
   }
   c.done();

@@ -4,10 +4,14 @@
 #include <fstream>
 #include <sstream>
 
+#include "cleanslam/hal/calibration_limits.hpp"
 #include "cleanslam/sim_hal/dataset.hpp"
 #include "cleanslam/sim_hal/yaml_document.hpp"
 
 namespace cleanslam::sim_hal {
+namespace {
+namespace lim = hal::calibration_limits;
+}  // namespace
 
 std::string format_double(double v) {
   // Plain decimal (shortest round trip) where it is not absurdly long, so that other YAML and
@@ -33,12 +37,13 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
   if (!doc.ok()) return R::failure(doc.error());
   yaml::Diagnostics diag;
   yaml::MappingReader root(*doc, "", diag);
-  // An optional fraction: outside [0, 1] it is an error naming line and key.
-  const auto check_fraction = [&diag](yaml::MappingReader& m, const char* key) {
+  // A number outside its hal::calibration_limits is an error naming line and key.
+  const auto check = [&diag](yaml::MappingReader& m, const char* key, lim::Limit limit) {
     const yaml::Node* n = m.node(key);
-    auto v = n != nullptr ? yaml::as_double(*n, m.path(key)) : Result<double>(0.0);
-    if (v.ok() && !(*v >= 0.0 && *v <= 1.0)) {
-      diag.errors.push_back(n->location.str() + ": " + m.path(key) + ": must be within [0, 1]");
+    auto v = n != nullptr ? yaml::as_double(*n, m.path(key)) : Result<double>(limit.hi);
+    if (v.ok() && !limit.contains(*v)) {
+      diag.errors.push_back(n->location.str() + ": " + m.path(key) + ": " +
+                            lim::out_of_range(*v, limit));
     }
   };
   if (doc->is_null()) return R::failure(file_name + ":1: empty document, expected sensors");
@@ -61,14 +66,19 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
     c.camera.fy = cam.required_double("fy");
     c.camera.cx = cam.required_double("cx");
     c.camera.cy = cam.required_double("cy");
-    if (cam.has("fx") && c.camera.fx <= 0.0) {
-      diag.errors.push_back(file_name + ": camera.fx: must be positive");
-    }
-    if (cam.has("fy") && c.camera.fy <= 0.0) {
-      diag.errors.push_back(file_name + ": camera.fy: must be positive");
-    }
+    check(cam, "fx", lim::kFocalPx);
+    check(cam, "fy", lim::kFocalPx);
+    check(cam, "cx", lim::kPrincipalPointPx);
+    check(cam, "cy", lim::kPrincipalPointPx);
     const auto dist = cam.optional_doubles("distortion", {0.0, 0.0, 0.0, 0.0}, 4);
-    for (std::size_t i = 0; i < 4 && i < dist.size(); ++i) c.camera.distortion[i] = dist[i];
+    for (std::size_t i = 0; i < 4 && i < dist.size(); ++i) {
+      c.camera.distortion[i] = dist[i];
+      if (!lim::kDistortion.contains(dist[i])) {
+        diag.errors.push_back(cam.node("distortion")->location.str() + ": " +
+                              cam.path("distortion") + ": " +
+                              lim::out_of_range(dist[i], lim::kDistortion));
+      }
+    }
     const yaml::Node* tnode = cam.node("T_body_cam");
     const auto t = cam.required_doubles("T_body_cam", 16);
     if (t.size() == 16) {
@@ -80,6 +90,8 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
     }
     c.camera.pixel_noise = cam.optional_double("pixel_noise", c.camera.pixel_noise);
     c.camera.time_offset_s = cam.optional_double("time_offset_s", 0.0);
+    check(cam, "pixel_noise", lim::kPixelNoisePx);
+    check(cam, "time_offset_s", lim::kTimeOffsetS);
     cam.report_unknown_keys();
   }
   {
@@ -89,14 +101,11 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
     c.wheels.wheel_base = w.required_double("wheel_base");
     c.wheels.distance_noise = w.optional_double("distance_noise", c.wheels.distance_noise);
     c.wheels.scale_error = w.optional_double("scale_error", c.wheels.scale_error);
-    for (const char* key : {"ticks_per_meter_left", "ticks_per_meter_right", "wheel_base"}) {
-      const yaml::Node* n = w.node(key);
-      auto v = n != nullptr ? yaml::as_double(*n, w.path(key)) : Result<double>(1.0);
-      if (v.ok() && *v <= 0.0) {
-        diag.errors.push_back(n->location.str() + ": " + w.path(key) + ": must be positive");
-      }
-    }
-    check_fraction(w, "scale_error");
+    check(w, "ticks_per_meter_left", lim::kTicksPerMeter);
+    check(w, "ticks_per_meter_right", lim::kTicksPerMeter);
+    check(w, "wheel_base", lim::kWheelBaseM);
+    check(w, "distance_noise", lim::kFraction);
+    check(w, "scale_error", lim::kFraction);
     w.report_unknown_keys();
   }
   {
@@ -105,8 +114,10 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
     c.gyro.bias_instability = g.optional_double("bias_instability", c.gyro.bias_instability);
     c.gyro.scale_error = g.optional_double("scale_error", c.gyro.scale_error);
     c.gyro.bias_walk = g.optional_double("bias_walk", c.gyro.bias_walk);
-    check_fraction(g, "scale_error");
-    check_fraction(g, "bias_walk");
+    check(g, "noise_density", lim::kNoiseDensity);
+    check(g, "bias_instability", lim::kGyroBias);
+    check(g, "scale_error", lim::kFraction);
+    check(g, "bias_walk", lim::kGyroBias);
     g.report_unknown_keys();
   }
   root.report_unknown_keys();

@@ -113,6 +113,20 @@ TEST(Config, CameraMountMustBeARigidTransformOnTheRobot) {
       << error_of("0, 0, 1, 1e7");
 }
 
+// The calibration section is checked against the same hal::calibration_limits as a dataset's
+// sensors.yaml.
+TEST(Config, CalibrationDistortionIsRangeChecked) {
+  const ConfigResult r =
+      parse_config("calibration:\n  camera:\n    distortion: [0, 1e300, 0, 0]\n", "robot.yaml", {});
+  EXPECT_NE(joined(r.errors).find(
+                "robot.yaml:3: calibration.camera.distortion: 1e+300 is out of range [-100, 100]"),
+            std::string::npos)
+      << joined(r.errors);
+  EXPECT_TRUE(parse_config("calibration:\n  camera:\n    distortion: [-0.3, 0.1, 0.001, 0]\n",
+                           "robot.yaml", {})
+                  .ok());
+}
+
 TEST(Config, UnknownKeysWarnWithTheirLocation) {
   const ConfigResult r = parse_config("loop:\n  publish_rate: 10\nfiltre: {}\n", "w.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);

@@ -288,6 +288,39 @@ TEST(Dataset, CameraFarFromTheBodyIsRefused) {
                        "camera.T_body_cam: translation more than 10 m from the body's origin"));
 }
 
+// Each of these went through before (a run with a negative noise, or with every prediction
+// refused): a calibration number outside hal::calibration_limits is an error naming line and key.
+TEST(Dataset, CalibrationNumbersOutsideTheirLimitsAreRefused) {
+  const struct {
+    const char* written;
+    const char* replaced_by;
+    const char* error;
+  } cases[] = {
+      {"pixel_noise: 0.5", "pixel_noise: -3", "camera.pixel_noise: -3 is out of range (0, 100]"},
+      {"time_offset_s: 0.0", "time_offset_s: 1e12",
+       "camera.time_offset_s: 1e+12 is out of range [-1, 1]"},
+      {"fx: 280.0", "fx: 1e300", "camera.fx: 1e+300 is out of range (0, 100000]"},
+      {"cx: 159.5", "cx: -1e300", "camera.cx: -1e+300 is out of range [-10000, 10000]"},
+      {"distortion: [0.0, 0.0, 0.0, 0.0]", "distortion: [0.0, 0.0, 1e300, 0.0]",
+       "camera.distortion: 1e+300 is out of range [-100, 100]"},
+      {"wheel_base: 0.235", "wheel_base: 0", "wheels.wheel_base: 0 is out of range (0, 10]"},
+      {"distance_noise: 0.02", "distance_noise: 1e300",
+       "wheels.distance_noise: 1e+300 is out of range [0, 1]"},
+      {"noise_density: 0.0005", "noise_density: -1",
+       "gyro.noise_density: -1 is out of range (0, 1]"},
+      {"bias_instability: 0.0001", "bias_instability: -5",
+       "gyro.bias_instability: -5 is out of range [0, 1]"},
+  };
+  for (const auto& c : cases) {
+    TempDir dir;
+    make_dataset(dir.str());
+    replace_in_file(dir.path() / "sensors.yaml", c.written, c.replaced_by);
+    const std::string e = load_error(dir.str());
+    EXPECT_TRUE(contains(e, "sensors.yaml:")) << e;
+    EXPECT_TRUE(contains(e, c.error)) << c.replaced_by << ": " << e;
+  }
+}
+
 TEST(Dataset, ImagesRoundTripAsPgmAndPng) {
   TempDir dir;
   const auto img = pattern(40, 30, 5);
