@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <sstream>
 
 #include "cleanslam/sim_hal/yaml_document.hpp"
 
@@ -313,6 +314,38 @@ Result<Scenario> load_scenario(const std::string& name_or_path,
     diag.errors.push_back("path.margin: leaves no room to drive in world.size");
   }
   if (sc.duration_s > 24.0 * 3600.0) diag.errors.push_back("duration_s: more than a day");
+  // Noises, probabilities and error magnitudes: a negative noise or a probability of 2 is a typo,
+  // and a rate of 1e4 Hz writes gigabytes.
+  auto within = [&](double v, double lo, double hi, const char* key) {
+    if (!(v >= lo && v <= hi)) {
+      std::ostringstream m;
+      m << key << ": " << v << " is out of range [" << lo << ", " << hi << "]";
+      diag.errors.push_back(m.str());
+    }
+  };
+  const auto& cam = sc.camera;
+  within(cam.rate_hz, 0.0, 100.0, "camera.rate_hz");
+  within(sc.gyro.rate_hz, 0.0, 10000.0, "gyro.rate_hz");
+  within(sc.encoders.rate_hz, 0.0, 1000.0, "encoders.rate_hz");
+  within(sc.groundtruth.rate_hz, 0.0, 1000.0, "groundtruth.rate_hz");
+  within(cam.pixel_noise, 0.0, 100.0, "camera.pixel_noise");
+  within(cam.jitter_s, 0.0, 1.0, "camera.jitter_s");
+  within(cam.outlier_probability, 0.0, 1.0, "camera.outlier_probability");
+  within(cam.min_range, 0.0, cam.max_range, "camera.min_range");
+  within(cam.image_noise, 0.0, 255.0, "camera.image_noise");
+  within(cam.blur, 0.0, 100.0, "camera.blur");
+  within(cam.exposure_walk, 0.0, 1.0, "camera.exposure_walk");
+  within(cam.exposure_jump_probability, 0.0, 1.0, "camera.exposure_jump_probability");
+  within(sc.gyro.noise_density, 0.0, 1.0, "gyro.noise_density");
+  within(sc.gyro.bias_walk, 0.0, 1.0, "gyro.bias_walk");
+  within(sc.gyro.scale_error, -0.5, 0.5, "gyro.scale_error");
+  within(sc.encoders.scale_error_left, -0.5, 0.5, "encoders.scale_error_left");
+  within(sc.encoders.scale_error_right, -0.5, 0.5, "encoders.scale_error_right");
+  within(sc.encoders.wheel_base_error, -0.5, 0.5, "encoders.wheel_base_error");
+  within(sc.encoders.distance_noise, 0.0, 1.0, "encoders.distance_noise");
+  within(sc.encoders.slip_rate_hz, 0.0, 10.0, "encoders.slip_rate_hz");
+  within(sc.encoders.slip_fraction, 0.0, 1.0, "encoders.slip_fraction");
+  within(sc.path.pause_probability, 0.0, 1.0, "path.pause_probability");
   if (!diag.ok()) return R::failure(diag.error_text());
   return sc;
 }

@@ -179,6 +179,32 @@ TEST(SimScenario, OverridesAndErrors) {
   EXPECT_FALSE(neg.ok());
 }
 
+// Each of these wrote a dataset before: with a negative noise (and a calibration stating another),
+// an outlier probability of 2, or 1.8 GB of frames at 1e4 Hz.
+TEST(SimScenario, NoisesProbabilitiesAndRatesOutsideTheirRangeAreErrors) {
+  const struct {
+    const char* set;
+    const char* error;
+  } cases[] = {
+      {"gyro.noise_density=-1", "gyro.noise_density: -1 is out of range [0, 1]"},
+      {"camera.pixel_noise=-3", "camera.pixel_noise: -3 is out of range [0, 100]"},
+      {"encoders.distance_noise=-0.5", "encoders.distance_noise: -0.5 is out of range [0, 1]"},
+      {"camera.outlier_probability=2", "camera.outlier_probability: 2 is out of range [0, 1]"},
+      {"camera.rate_hz=1e4", "camera.rate_hz: 10000 is out of range [0, 100]"},
+      {"encoders.scale_error_left=-2", "encoders.scale_error_left: -2 is out of range [-0.5, 0.5]"},
+      {"camera.min_range=9", "camera.min_range: 9 is out of range [0, 5]"},
+  };
+  for (const auto& c : cases) {
+    auto sc = sim::load_scenario("default-room", {c.set});
+    ASSERT_FALSE(sc.ok()) << c.set;
+    EXPECT_NE(sc.error().find(c.error), std::string::npos) << sc.error();
+  }
+  for (const char* name : {"corridor", "default-room", "kidnapped", "person-walking",
+                           "poor-texture", "sparse-poor-odometry", "standstills"}) {
+    EXPECT_TRUE(sim::load_scenario(name).ok()) << name;
+  }
+}
+
 TEST(SimScenario, FileWithBase) {
   TempDir dir;
   fs::create_directories(dir.str());
