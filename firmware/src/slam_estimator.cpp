@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <span>
 
 #include <Eigen/Eigenvalues>
 
@@ -332,7 +333,8 @@ bool SlamEstimator::associate_features() {
   if (m == 0) {
     return true;
   }
-  innovation_count_ = ekf_.joint_pixel_innovation(obs_.data(), m, nu_.data(), S_.data());
+  innovation_count_ = ekf_.joint_pixel_innovation(
+      std::span<const slam_core::Observation>(obs_.data(), static_cast<std::size_t>(m)), nu_, S_);
   if (innovation_count_ == m) {
     jcbb_result_ = jcbb_.solve(nu_.data(), S_.data(), m, inlier_.data());
   }

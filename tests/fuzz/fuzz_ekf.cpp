@@ -670,10 +670,25 @@ class Session {
     const int count = in_.byte() % (hal::kMaxObservationsPerFrame + 3) - 1;
     const std::vector<Observation> obs = observations(count, hostile);
     const auto m = static_cast<std::size_t>(std::max(count, 0));
-    std::vector<double> nu(2 * m);
-    std::vector<double> S(4 * m * m);
-    const int r = filter_.joint_pixel_innovation(obs.data(), count, nu.data(), S.data());
-    expect(r == -1 || r == count, "joint_pixel_innovation: returned neither -1 nor the count");
+    // A hostile caller's buffers may be an entry short; a guard entry follows each. Which is short
+    // comes from the first slot, so that the corpus' inputs read the same bytes as before.
+    const std::size_t shorten =
+        hostile && !obs.empty() ? static_cast<std::size_t>(obs.front().slot) % 4 : 0;
+    const std::size_t short_nu = shorten & 1U;
+    const std::size_t short_S = (shorten >> 1U) & 1U;
+    constexpr double kGuard = -12345.0;
+    std::vector<double> nu(2 * m + 1, kGuard);
+    std::vector<double> S(4 * m * m + 1, kGuard);
+    const std::size_t nu_size = 2 * m - std::min(short_nu, 2 * m);
+    const std::size_t S_size = 4 * m * m - std::min(short_S, 4 * m * m);
+    const int r = filter_.joint_pixel_innovation(obs, std::span<double>(nu).first(nu_size),
+                                                 std::span<double>(S).first(S_size));
+    expect(nu[nu_size] == kGuard && S[S_size] == kGuard,
+           "joint_pixel_innovation: wrote past the caller's buffers");
+    const bool fits = nu_size == 2 * m && S_size == 4 * m * m;
+    expect(fits || m == 0 || r == -1, "joint_pixel_innovation: took buffers too small");
+    expect(r == -1 || r == static_cast<int>(obs.size()),
+           "joint_pixel_innovation: returned neither -1 nor the count");
     if (r <= 0) {
       return;
     }

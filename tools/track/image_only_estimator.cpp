@@ -30,12 +30,14 @@ bool ImageOnlyEstimator::predict_pixel(int slot, slam_core::frontend::PixelPredi
   return true;
 }
 
-int ImageOnlyEstimator::joint_pixel_innovation(const slam_core::frontend::PixelObservation* obs,
-                                               int count, double* nu, double* S) {
-  if (count < 0 || count > hal::kMaxObservationsPerFrame) {
+int ImageOnlyEstimator::joint_pixel_innovation(
+    std::span<const slam_core::frontend::PixelObservation> obs, std::span<double> nu,
+    std::span<double> S) {
+  constexpr auto kMax = static_cast<std::size_t>(hal::kMaxObservationsPerFrame);
+  if (obs.size() > kMax || nu.size() < 2 * obs.size() || S.size() < 4 * obs.size() * obs.size()) {
     return -1;
   }
-  for (int i = 0; i < count; ++i) {
+  for (std::size_t i = 0; i < obs.size(); ++i) {
     if (!used(obs[i].slot)) {
       return -1;
     }
@@ -44,6 +46,7 @@ int ImageOnlyEstimator::joint_pixel_innovation(const slam_core::frontend::PixelO
     nu[2 * i] = obs[i].u_px - p.uv.x();
     nu[2 * i + 1] = obs[i].v_px - p.uv.y();
   }
+  const auto count = static_cast<int>(obs.size());
   const int n = 2 * count;
   const double common = config_.sigma_common_px * config_.sigma_common_px;
   const double pixel = config_.sigma_pixel_px * config_.sigma_pixel_px;

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 
 #include "cleanslam/hal/capacities.hpp"
 #include "cleanslam/slam_core/frontend/landmark_estimator.hpp"
@@ -23,8 +24,8 @@ class ImageOnlyEstimator : public slam_core::frontend::LandmarkEstimator {
   explicit ImageOnlyEstimator(const Config& config) : config_(config) {}
 
   bool predict_pixel(int slot, slam_core::frontend::PixelPrediction& out) override;
-  int joint_pixel_innovation(const slam_core::frontend::PixelObservation* obs, int count,
-                             double* nu, double* S) override;
+  int joint_pixel_innovation(std::span<const slam_core::frontend::PixelObservation> obs,
+                             std::span<double> nu, std::span<double> S) override;
   int initialize_landmark(double u_px, double v_px) override;
   void delete_landmark(int slot) override;
   int update(const slam_core::frontend::PixelObservation* obs, int count) override;

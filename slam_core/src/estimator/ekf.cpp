@@ -912,22 +912,22 @@ bool Ekf::predict_pixel(int slot, PixelPrediction& out) const {
   return true;
 }
 
-int Ekf::joint_pixel_innovation(const Observation* obs, int count, double* nu, double* S) const {
-  if (count < 0 || count > hal::kMaxObservationsPerFrame) {
+int Ekf::joint_pixel_innovation(std::span<const Observation> obs, std::span<double> nu,
+                                std::span<double> S) const {
+  constexpr auto kMax = static_cast<std::size_t>(hal::kMaxObservationsPerFrame);
+  if (obs.size() > kMax || nu.size() < 2 * obs.size() || S.size() < 4 * obs.size() * obs.size()) {
     return -1;
   }
+  const auto count = static_cast<int>(obs.size());
   if (count == 0) {
     return 0;
-  }
-  if (obs == nullptr || nu == nullptr || S == nullptr) {
-    return -1;
   }
   std::array<Eigen::Matrix<double, 2, 6>, hal::kMaxObservationsPerFrame> Jp;
   std::array<Eigen::Matrix<double, 2, 3>, hal::kMaxObservationsPerFrame> Jl;
   std::array<int, hal::kMaxObservationsPerFrame> lm{};
   for (int i = 0; i < count; ++i) {
     const auto is = static_cast<std::size_t>(i);
-    const Observation& o = obs[i];
+    const Observation& o = obs[is];
     Eigen::Vector2d uv;
     double depth = 0.0;
     if (!slot_used(o.slot) || !finite2(o.u_px, o.v_px) ||
@@ -935,11 +935,11 @@ int Ekf::joint_pixel_innovation(const Observation* obs, int count, double* nu, d
       return -1;
     }
     lm[is] = row_of(o.slot);
-    nu[2 * i] = o.u_px - uv.x();
-    nu[2 * i + 1] = o.v_px - uv.y();
+    nu[2 * is] = o.u_px - uv.x();
+    nu[2 * is + 1] = o.v_px - uv.y();
   }
   const int dim = 2 * count;
-  Eigen::Map<Eigen::MatrixXd> Sm(S, dim, dim);
+  Eigen::Map<Eigen::MatrixXd> Sm(S.data(), dim, dim);
   const double r =
       config_.eps_trk_px * config_.eps_trk_px + config_.eps_cal_px * config_.eps_cal_px;
   const Matrix6d Pxx = P_.topLeftCorner<6, 6>();
@@ -963,7 +963,7 @@ int Ekf::joint_pixel_innovation(const Observation* obs, int count, double* nu, d
       }
     }
   }
-  if (!Sm.allFinite() || !Eigen::Map<const Eigen::VectorXd>(nu, dim).allFinite()) {
+  if (!Sm.allFinite() || !Eigen::Map<const Eigen::VectorXd>(nu.data(), dim).allFinite()) {
     return -1;
   }
   return count;

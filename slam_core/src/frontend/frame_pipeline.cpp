@@ -1,6 +1,7 @@
 #include "cleanslam/slam_core/frontend/frame_pipeline.hpp"
 
 #include <algorithm>
+#include <span>
 
 namespace cleanslam::slam_core::frontend {
 
@@ -271,7 +272,9 @@ void FramePipeline::do_associate(LandmarkEstimator& est) {
   if (obs_count_ == 0) {
     return;
   }
-  const int m = est.joint_pixel_innovation(obs_.data(), obs_count_, nu_.data(), S_.data());
+  const int m = est.joint_pixel_innovation(
+      std::span<const PixelObservation>(obs_.data(), static_cast<std::size_t>(obs_count_)), nu_,
+      S_);
   if (m != obs_count_) {
     report_.innovation_rejected = true;
     return;

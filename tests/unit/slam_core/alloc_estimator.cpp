@@ -9,6 +9,7 @@
 #include <cstring>
 #include <initializer_list>
 #include <memory>
+#include <span>
 
 #include <gtest/gtest.h>
 #include <Eigen/Core>
@@ -128,7 +129,7 @@ struct EkfRun {
           obs[static_cast<std::size_t>(m++)] = {slot, p.uv.x() + 0.3, p.uv.y() - 0.2};
         }
       }
-      ekf->joint_pixel_innovation(obs.data(), m, nu.data(), S.data());
+      ekf->joint_pixel_innovation(std::span(obs).first(static_cast<std::size_t>(m)), nu, S);
       ekf->update(obs.data(), m);
       // A chunked update runs to its end in steps, or (every 7th) is left pending for the next
       // prediction to finish.

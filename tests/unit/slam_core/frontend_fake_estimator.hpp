@@ -6,6 +6,8 @@
 // with the warp's scale (2 m at scale 1).
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <span>
 
 #include <Eigen/Core>
 
@@ -75,19 +77,22 @@ class FakeEstimator : public slam_core::frontend::LandmarkEstimator {
     return true;
   }
 
-  int joint_pixel_innovation(const slam_core::frontend::PixelObservation* obs, int count,
-                             double* nu, double* S) override {
-    if (count < 0 || count > hal::kMaxObservationsPerFrame) {
+  int joint_pixel_innovation(std::span<const slam_core::frontend::PixelObservation> obs,
+                             std::span<double> nu, std::span<double> S) override {
+    const auto count = static_cast<int>(obs.size());
+    if (count > hal::kMaxObservationsPerFrame || nu.size() < 2 * obs.size() ||
+        S.size() < 4 * obs.size() * obs.size()) {
       return -1;
     }
     const int n = 2 * count;
     for (int i = 0; i < count; ++i) {
       slam_core::frontend::PixelPrediction p;
-      if (!predict_pixel(obs[i].slot, p)) {
+      const auto& o = obs[static_cast<std::size_t>(i)];
+      if (!predict_pixel(o.slot, p)) {
         return -1;
       }
-      nu[2 * i] = obs[i].u_px - p.uv.x();
-      nu[2 * i + 1] = obs[i].v_px - p.uv.y();
+      nu[static_cast<std::size_t>(2 * i)] = o.u_px - p.uv.x();
+      nu[static_cast<std::size_t>(2 * i + 1)] = o.v_px - p.uv.y();
     }
     for (int c = 0; c < n; ++c) {
       for (int r = 0; r < n; ++r) {
@@ -95,7 +100,7 @@ class FakeEstimator : public slam_core::frontend::LandmarkEstimator {
         if (r == c) {
           s += sigma_pixel_px * sigma_pixel_px;
         }
-        S[c * n + r] = s;
+        S[static_cast<std::size_t>(c * n + r)] = s;
       }
     }
     return count;

@@ -1,6 +1,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <span>
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
@@ -389,7 +390,7 @@ TEST_F(EkfTest, PixelPredictionsMatchProjectionAndJointCovariance) {
   }
   std::array<double, 6> nu{};
   std::array<double, 36> S{};
-  ASSERT_EQ(ekf_->joint_pixel_innovation(obs.data(), 3, nu.data(), S.data()), 3);
+  ASSERT_EQ(ekf_->joint_pixel_innovation(obs, nu, S), 3);
   const Eigen::Map<Eigen::Matrix<double, 6, 6>> Sm(S.data());
   EXPECT_EQ((Sm - Sm.transpose()).norm(), 0.0);
   const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(Sm);
@@ -405,8 +406,15 @@ TEST_F(EkfTest, PixelPredictionsMatchProjectionAndJointCovariance) {
   }
   // Landmarks observed from the same uncertain pose have correlated pixel errors.
   EXPECT_GT(std::abs(Sm(0, 2)), 0.0);
+  // Buffers too small for three observations: refused, nothing written past them.
+  std::array<double, 37> S_guarded{};
+  S_guarded.back() = 42.0;
+  EXPECT_EQ(ekf_->joint_pixel_innovation(obs, std::span<double>(nu).first(5), S), -1);
+  EXPECT_EQ(ekf_->joint_pixel_innovation(obs, nu, std::span<double>(S_guarded).first(35)), -1);
+  EXPECT_EQ(ekf_->joint_pixel_innovation(obs, nu, std::span<double>(S_guarded).first(36)), 3);
+  EXPECT_EQ(S_guarded.back(), 42.0);
   obs[1].slot = 9;
-  EXPECT_EQ(ekf_->joint_pixel_innovation(obs.data(), 3, nu.data(), S.data()), -1);
+  EXPECT_EQ(ekf_->joint_pixel_innovation(obs, nu, S), -1);
 }
 
 TEST_F(EkfTest, PixelCovarianceMatchesLinearizedSpread) {

@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstddef>
+#include <span>
+
 #include <Eigen/Core>
 
 #include "cleanslam/slam_core/frontend/ekf_adapter.hpp"
@@ -39,15 +43,14 @@ struct MockEkf {
     out.in_front = true;
     return true;
   }
-  int joint_pixel_innovation(const MockObservation* obs, int count, double* nu, double* S) const {
-    for (int i = 0; i < count; ++i) {
+  int joint_pixel_innovation(std::span<const MockObservation> obs, std::span<double> nu,
+                             std::span<double> S) const {
+    for (std::size_t i = 0; i < obs.size(); ++i) {
       nu[2 * i] = obs[i].u_px - 100.0;
       nu[2 * i + 1] = obs[i].v_px - 50.0;
     }
-    for (int i = 0; i < 4 * count * count; ++i) {
-      S[i] = 0.0;
-    }
-    return count;
+    std::fill(S.begin(), S.begin() + static_cast<std::ptrdiff_t>(4 * obs.size() * obs.size()), 0.0);
+    return static_cast<int>(obs.size());
   }
   int initialize_landmark(double u_px, double v_px) { return u_px > 0.0 && v_px > 0.0 ? 7 : -1; }
   void delete_landmark(int slot) { deleted = slot; }
@@ -80,7 +83,7 @@ TEST(FrontendEkfAdapter, PassesCallsThroughUnchanged) {
   const fe::PixelObservation obs[2] = {{3, 101.0, 52.0}, {5, 90.0, 40.0}};
   double nu[4];
   double S[16];
-  EXPECT_EQ(adapter.joint_pixel_innovation(obs, 2, nu, S), 2);
+  EXPECT_EQ(adapter.joint_pixel_innovation(obs, nu, S), 2);
   EXPECT_EQ(nu[0], 1.0);
   EXPECT_EQ(nu[3], -10.0);
   EXPECT_EQ(adapter.update(obs, 2), 1);
@@ -99,8 +102,7 @@ TEST(FrontendEkfAdapter, RejectsMoreObservationsThanAFrameHolds) {
   fe::PixelObservation obs[cleanslam::hal::kMaxObservationsPerFrame + 1] = {};
   double nu[2];
   double S[4];
-  EXPECT_EQ(
-      adapter.joint_pixel_innovation(obs, cleanslam::hal::kMaxObservationsPerFrame + 1, nu, S), -1);
+  EXPECT_EQ(adapter.joint_pixel_innovation(obs, nu, S), -1);
   EXPECT_EQ(adapter.update(obs, -1), 0);
   EXPECT_EQ(ekf.last_count, -1);
 }

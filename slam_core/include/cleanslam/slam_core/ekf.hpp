@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -137,10 +138,12 @@ class Ekf {
   // overflows.
   bool predict_pixel(int slot, PixelPrediction& out) const;
 
-  // Stacked pixel innovations (2m) and their joint covariance (2m x 2m, column-major) for JCBB.
-  // Returns m, or -1 when an observation has an unused slot, a bad pixel or a landmark behind the
-  // camera, the result is not finite, or count is outside [0, hal::kMaxObservationsPerFrame].
-  int joint_pixel_innovation(const Observation* obs, int count, double* nu, double* S) const;
+  // Stacked pixel innovations (2m) and their joint covariance (2m x 2m, column-major) for JCBB,
+  // m = obs.size(). Returns m, or -1 when an observation has an unused slot,
+  // a bad pixel or a landmark behind the camera, m exceeds hal::kMaxObservationsPerFrame, or nu or
+  // S is too small; -1 also when the result is not finite.
+  int joint_pixel_innovation(std::span<const Observation> obs, std::span<double> nu,
+                             std::span<double> S) const;
 
   [[nodiscard]] Vector6d camera_pose() const { return x_.head<6>(); }
   // The residual gyro bias state (rad/s) and its variance; 0 without EkfConfig::gyro_bias_state.

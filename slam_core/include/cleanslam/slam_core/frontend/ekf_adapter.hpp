@@ -3,6 +3,7 @@
 #include <array>
 #include <concepts>
 #include <cstddef>
+#include <span>
 
 #include "cleanslam/hal/capacities.hpp"
 #include "cleanslam/slam_core/frontend/landmark_estimator.hpp"
@@ -12,7 +13,8 @@ namespace cleanslam::slam_core::frontend {
 // Drives an EKF through the frame pipeline's LandmarkEstimator interface. Written against the
 // EKF's API rather than its type, so that the front end builds without it:
 //   bool predict_pixel(int slot, Prediction&) const   (Prediction: uv, S, depth_m, in_front)
-//   int joint_pixel_innovation(const Observation*, int count, double* nu, double* S) const
+//   int joint_pixel_innovation(std::span<const Observation>, std::span<double> nu,
+//                              std::span<double> S) const
 //   int initialize_landmark(double u_px, double v_px)
 //   void delete_landmark(int slot)
 //   const Status& update(const Observation*, int count)   (Status: int fused)
@@ -41,12 +43,13 @@ class EkfAdapter final : public LandmarkEstimator {
     return true;
   }
 
-  int joint_pixel_innovation(const PixelObservation* obs, int count, double* nu,
-                             double* S) override {
-    if (!convert(obs, count)) {
+  int joint_pixel_innovation(std::span<const PixelObservation> obs, std::span<double> nu,
+                             std::span<double> S) override {
+    if (obs.size() > buffer_.size() || !convert(obs.data(), static_cast<int>(obs.size()))) {
       return -1;
     }
-    return estimator_.joint_pixel_innovation(buffer_.data(), count, nu, S);
+    return estimator_.joint_pixel_innovation(
+        std::span<const Observation>(buffer_.data(), obs.size()), nu, S);
   }
 
   int initialize_landmark(double u_px, double v_px) override {

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <span>
+
 #include <Eigen/Core>
 
 #include "cleanslam/slam_core/frontend/search_region.hpp"
@@ -20,9 +22,10 @@ class LandmarkEstimator {
   virtual ~LandmarkEstimator() = default;
   // Predicted pixel, its 2x2 covariance and depth; false when the slot has no prediction.
   virtual bool predict_pixel(int slot, PixelPrediction& out) = 0;
-  // Stacked innovations (2m) and their joint covariance (2m x 2m, column-major); returns m or -1.
-  virtual int joint_pixel_innovation(const PixelObservation* obs, int count, double* nu,
-                                     double* S) = 0;
+  // Stacked innovations (2m, into nu) and their joint covariance (2m x 2m, column-major, into S),
+  // m = obs.size(); returns m, or -1 (also when nu or S is too small).
+  virtual int joint_pixel_innovation(std::span<const PixelObservation> obs, std::span<double> nu,
+                                     std::span<double> S) = 0;
   // Undelayed initialization at a pixel; returns the slot (possibly one reused from a replaced
   // landmark) or -1.
   virtual int initialize_landmark(double u_px, double v_px) = 0;
