@@ -117,6 +117,10 @@ Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_di
   const Trajectory traj(plan.primitives, plan.start, true_wheel_base);
   const double duration = traj.duration();
   if (duration <= 0.0) return R::failure(sc.name + ": the path is empty");
+  if (duration > 24.0 * 3600.0) {
+    return R::failure(sc.name + ": the path takes " + std::to_string(std::lround(duration)) +
+                      " s, more than a day: set duration_s, or a smaller world.size or path");
+  }
 
   DatasetWriter writer;
   Status s = writer.open(out_dir, calibration_of(sc),

@@ -180,7 +180,8 @@ TEST(SimScenario, OverridesAndErrors) {
 }
 
 // Each of these wrote a dataset before: with a negative noise (and a calibration stating another),
-// an outlier probability of 2, or 1.8 GB of frames at 1e4 Hz.
+// an outlier probability of 2, 1.8 GB of frames at 1e4 Hz, or gigabytes over hours (a world of
+// 1e6 m, 1e8 landmarks).
 TEST(SimScenario, NoisesProbabilitiesAndRatesOutsideTheirRangeAreErrors) {
   const struct {
     const char* set;
@@ -193,6 +194,11 @@ TEST(SimScenario, NoisesProbabilitiesAndRatesOutsideTheirRangeAreErrors) {
       {"camera.rate_hz=1e4", "camera.rate_hz: 10000 is out of range [0, 100]"},
       {"encoders.scale_error_left=-2", "encoders.scale_error_left: -2 is out of range [-0.5, 0.5]"},
       {"camera.min_range=9", "camera.min_range: 9 is out of range [0, 5]"},
+      {"world.size=[1e6, 1e6, 3]", "world.size[0]: 1e+06 is out of range [0, 1000]"},
+      {"landmarks.on_walls=100000000", "landmarks.on_walls: 1e+08 is out of range [0, 100000]"},
+      {"path.repeats=1000000", "path.repeats: 1e+06 is out of range [1, 1000]"},
+      {"camera.max_features=-5", "camera.max_features: -5 is out of range [0, 100000]"},
+      {"duration_s=-5", "duration_s: -5 is out of range [0, 86400]"},
   };
   for (const auto& c : cases) {
     auto sc = sim::load_scenario("default-room", {c.set});
@@ -215,6 +221,16 @@ TEST(SimScenario, FileWithBase) {
   EXPECT_DOUBLE_EQ(sc->world.size.x, 20.0);
   EXPECT_DOUBLE_EQ(sc->camera.rate_hz, 1.0);
   EXPECT_DOUBLE_EQ(sc->camera.tilt_deg, 10.0);
+}
+
+// A boustrophedon over 1000 m x 1000 m takes months: refused before anything is written.
+TEST(Simulator, APathOfMoreThanADayIsRefusedBeforeWriting) {
+  TempDir dir;
+  const auto sc = load("default-room", {"world.size=[1000, 1000, 3]"});
+  const auto r = sim::simulate(sc, dir.sub("out"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().find("more than a day"), std::string::npos) << r.error();
+  EXPECT_FALSE(fs::exists(dir.sub("out")));
 }
 
 TEST(Simulator, DeterministicForASeed) {
