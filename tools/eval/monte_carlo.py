@@ -249,6 +249,9 @@ def replay_and_evaluate(tools, dataset, run_dir, replay_sets, emulator, log=None
     gt = os.path.join(dataset, "groundtruth.csv")
     slam = _eval(tools, gt, os.path.join(run_dir, "trajectory.tum"), emulator, log)
     dr = _eval(tools, gt, os.path.join(run_dir, "dead_reckoning.tum"), emulator, log)
+    if slam.get("nees_not_positive_definite", 0) > 0:
+        print(f"warning: {run_dir}: {slam['nees_not_positive_definite']} covariances not positive "
+              "definite, left out of the NEES", file=sys.stderr)
     cov = os.path.join(run_dir, "trajectory.tum.cov")
     times, nees = pose_nees(gt, os.path.join(run_dir, "trajectory.tum"), cov) \
         if os.path.exists(cov) else ([], [])
@@ -263,6 +266,7 @@ def replay_and_evaluate(tools, dataset, run_dir, replay_sets, emulator, log=None
         "nees_mean": slam["nees_mean"],
         "nees_fraction_in_95": slam["nees_fraction_in_95"],
         "nees_count": slam["nees_count"],
+        "nees_not_positive_definite": slam.get("nees_not_positive_definite", 0),
         "pose_nees_times_s": times,
         "pose_nees": nees,
     }

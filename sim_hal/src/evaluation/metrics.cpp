@@ -166,6 +166,8 @@ Result<Metrics> evaluate(const std::vector<GroundTruthPose>& groundtruth,
         nees_sum += nees;
         ++m.nees_count;
         if (nees >= kChi2Low && nees <= kChi2High) ++nees_in;
+      } else if (m.nees_not_positive_definite++ == 0) {
+        m.first_not_positive_definite_s = hal::to_seconds(src[i]->t_ns);
       }
     }
   }
@@ -211,12 +213,14 @@ std::string to_json(const Metrics& m, Alignment alignment) {
       "\"ate_rmse_m\": %.6f, \"ate_max_m\": %.6f, \"orientation_rmse_deg\": %.4f, "
       "\"final_error_m\": %.6f, \"path_length_m\": %.4f, \"rpe_pairs\": %d, "
       "\"rpe_translation_per_m\": %.6f, \"rpe_rotation_deg_per_m\": %.5f, "
-      "\"nees_count\": %d, \"nees_mean\": %s, \"nees_fraction_in_95\": %s}",
+      "\"nees_count\": %d, \"nees_mean\": %s, \"nees_fraction_in_95\": %s, "
+      "\"nees_not_positive_definite\": %d}",
       name_of(alignment), m.poses_evaluated, m.poses_outside_groundtruth, m.ate_rmse_m, m.ate_max_m,
       m.orientation_rmse_deg, m.final_error_m, m.path_length_m, m.rpe_pairs,
       m.rpe_translation_per_m, m.rpe_rotation_deg_per_m, m.nees_count,
       m.nees_count > 0 ? std::to_string(m.nees_mean).c_str() : "null",
-      m.nees_count > 0 ? std::to_string(m.nees_fraction_in_95).c_str() : "null");
+      m.nees_count > 0 ? std::to_string(m.nees_fraction_in_95).c_str() : "null",
+      m.nees_not_positive_definite);
   return buf;
 }
 
@@ -245,6 +249,13 @@ std::string to_text(const Metrics& m, Alignment alignment) {
     std::snprintf(buf, sizeof(buf), "position NEES         no covariances\n");
   }
   out += buf;
+  if (m.nees_not_positive_definite > 0) {
+    std::snprintf(buf, sizeof(buf),
+                  "                      not positive definite, left out: %d covariances (the "
+                  "first at t = %.6f s)\n",
+                  m.nees_not_positive_definite, m.first_not_positive_definite_s);
+    out += buf;
+  }
   return out;
 }
 

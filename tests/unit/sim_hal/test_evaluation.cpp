@@ -158,6 +158,28 @@ TEST(Evaluation, NoiseGivesMatchingAteAndConsistentNees) {
         1e-4 * sigma * sigma, 0, 0, 0, 1e-4 * sigma * sigma, 0, 0, 0, 1e-4 * sigma * sigma};
   auto bad = ev::evaluate(gt, est, ev::Alignment::kSe3);
   EXPECT_GT(bad->nees_mean, 1000.0);
+  EXPECT_EQ(bad->nees_not_positive_definite, 0);
+}
+
+// A covariance that is not positive definite is left out of the NEES, and said so: before, the
+// pose count was the only trace of it.
+TEST(Evaluation, CovariancesNotPositiveDefiniteAreCountedNotHidden) {
+  const auto gt = make_gt();
+  auto est = make_estimate(gt, 0.0, {0, 0, 0}, 0.05);
+  for (auto& p : est) {
+    p.position_covariance = std::array<double, 9>{0.0025, 0, 0, 0, 0.0025, 0, 0, 0, 0.0025};
+  }
+  est[5].position_covariance = std::array<double, 9>{-5.0, 0, 0, 0, 0.0025, 0, 0, 0, 0.0025};
+  est[9].position_covariance = std::array<double, 9>{};
+  auto m = ev::evaluate(gt, est, ev::Alignment::kNone);
+  ASSERT_TRUE(m.ok());
+  EXPECT_EQ(m->nees_count, m->poses_evaluated - 2);
+  EXPECT_EQ(m->nees_not_positive_definite, 2);
+  EXPECT_DOUBLE_EQ(m->first_not_positive_definite_s, hal::to_seconds(est[5].t_ns));
+  const std::string text = ev::to_text(*m, ev::Alignment::kNone);
+  EXPECT_NE(text.find("not positive definite, left out: 2 covariances"), std::string::npos) << text;
+  EXPECT_NE(ev::to_json(*m, ev::Alignment::kNone).find("\"nees_not_positive_definite\": 2"),
+            std::string::npos);
 }
 
 TEST(Evaluation, EstimatesOutsideTheGroundTruthAreCounted) {

@@ -52,6 +52,10 @@ struct Metrics {
   int nees_count = 0;
   double nees_mean = 0.0;
   double nees_fraction_in_95 = 0.0;
+  // Poses whose covariance is not positive definite (a corrupt file or an estimator's fault):
+  // left out of the NEES, counted, and the first one's time (seconds).
+  int nees_not_positive_definite = 0;
+  double first_not_positive_definite_s = 0.0;
   // The alignment applied (estimate -> ground truth frame): yaw (se2) or rotation, translation.
   std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};
   std::array<double, 3> translation{};
