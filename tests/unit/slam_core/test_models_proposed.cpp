@@ -44,13 +44,17 @@ TEST_P(ProposedFig10, ErrorStaysBelowATenthOfAMillimetreOverTheSweep) {
 INSTANTIATE_TEST_SUITE_P(Motions, ProposedFig10,
                          ::testing::Values(Motion::kForward, Motion::kLateral));
 
-TEST(ProposedModel, RejectsBadInputAndRotations) {
-  const ProposedParams params{Pinhole{}, 1000.0, 0.005, 10.0, 1e12};
-  const auto ekf = make_ekf(params);
-  ProposedModel model(*ekf);
-  const ComparisonSetup s = fig10_setup(Motion::kForward, 8.0);
+// The forward motion of Fig. 10 at 8 m, its first pixel, and the model on a fresh filter.
+class ProposedModelTest : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_TRUE(observe(Pinhole{}, s.first, s.landmark, pixel)); }
+  std::unique_ptr<Ekf> ekf = make_ekf(ProposedParams{Pinhole{}, 1000.0, 0.005, 10.0, 1e12});
+  ProposedModel model{*ekf};
+  ComparisonSetup s = fig10_setup(Motion::kForward, 8.0);
   Eigen::Vector2d pixel;
-  ASSERT_TRUE(observe(Pinhole{}, s.first, s.landmark, pixel));
+};
+
+TEST_F(ProposedModelTest, RejectsBadInputAndRotations) {
   EXPECT_EQ(model.update(s.second, pixel), ModelStatus::kNotInitialized);
   ASSERT_EQ(model.initialize(s.first, pixel), ModelStatus::kOk);
   EXPECT_NEAR((model.position_w() - s.first.position_w).norm(), 10.0, 1e-9);
@@ -66,13 +70,7 @@ TEST(ProposedModel, RejectsBadInputAndRotations) {
 
 // A pose the filter cannot represent (2000 km away) is refused by Ekf::reset: the landmark must
 // not be placed from the filter's previous pose instead.
-TEST(ProposedModel, APoseTheFilterRefusesInitializesNothing) {
-  const ProposedParams params{Pinhole{}, 1000.0, 0.005, 10.0, 1e12};
-  const auto ekf = make_ekf(params);
-  ProposedModel model(*ekf);
-  const ComparisonSetup s = fig10_setup(Motion::kForward, 8.0);
-  Eigen::Vector2d pixel;
-  ASSERT_TRUE(observe(Pinhole{}, s.first, s.landmark, pixel));
+TEST_F(ProposedModelTest, APoseTheFilterRefusesInitializesNothing) {
   ASSERT_EQ(model.initialize(s.first, pixel), ModelStatus::kOk);
   KnownPose far = s.first;
   far.position_w.x() = 2.0 * Ekf::kMaxAbsState;
