@@ -38,13 +38,26 @@ cs::OdometryIncrement a_step() {
   return u;
 }
 
+// The drift-state filter with a landmark, and its state and covariance before the call under test.
+class EkfRangeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    prepare_drift_filter(ekf);
+    x0 = ekf.state();
+    P0 = ekf.covariance();
+  }
+  void expect_unchanged() const {
+    EXPECT_EQ(ekf.state(), x0);
+    EXPECT_EQ(ekf.covariance(), P0);
+  }
+  cs::Ekf ekf{drift_calibration(), drift_config()};
+  Eigen::VectorXd x0;
+  Eigen::MatrixXd P0;
+};
+
 }  // namespace
 
-TEST(EkfRange, ResetRefusesAPoseOrCovarianceItCannotRepresent) {
-  cs::Ekf ekf(drift_calibration(), drift_config());
-  prepare_drift_filter(ekf);
-  const Eigen::VectorXd x0 = ekf.state();
-  const Eigen::MatrixXd P0 = ekf.covariance();
+TEST_F(EkfRangeTest, ResetRefusesAPoseOrCovarianceItCannotRepresent) {
   const cs::Matrix6d good = cs::Matrix6d::Identity() * 1e-4;
 
   cs::Vector6d far = a_pose();
@@ -69,8 +82,7 @@ TEST(EkfRange, ResetRefusesAPoseOrCovarianceItCannotRepresent) {
   EXPECT_FALSE(ekf.reset(a_pose(), negative));
   EXPECT_FALSE(ekf.reset(a_pose(), infinite));
   EXPECT_FALSE(ekf.reset(a_pose(), overflowing));
-  EXPECT_EQ(ekf.state(), x0);
-  EXPECT_EQ(ekf.covariance(), P0);
+  expect_unchanged();
   EXPECT_EQ(ekf.landmark_count(), 1);
 
   // A zero covariance (a pose taken as known) and a rank-deficient one are semi-definite.
@@ -81,11 +93,7 @@ TEST(EkfRange, ResetRefusesAPoseOrCovarianceItCannotRepresent) {
   EXPECT_EQ(ekf.landmark_count(), 0);
 }
 
-TEST(EkfRange, PredictionBeyondTheRangeIsRefused) {
-  cs::Ekf ekf(drift_calibration(), drift_config());
-  prepare_drift_filter(ekf);
-  const Eigen::VectorXd x0 = ekf.state();
-  const Eigen::MatrixXd P0 = ekf.covariance();
+TEST_F(EkfRangeTest, PredictionBeyondTheRangeIsRefused) {
   const std::uint64_t rejected = ekf.counters().predictions_rejected;
 
   cs::OdometryIncrement far = a_step();
@@ -94,8 +102,7 @@ TEST(EkfRange, PredictionBeyondTheRangeIsRefused) {
   uncertain.Q(0, 0) = 2.0 * cs::Ekf::kMaxVariance;
   EXPECT_EQ(ekf.predict(far).result, cs::PredictResult::kOutOfRange);
   EXPECT_EQ(ekf.predict(uncertain).result, cs::PredictResult::kOutOfRange);
-  EXPECT_EQ(ekf.state(), x0);
-  EXPECT_EQ(ekf.covariance(), P0);
+  expect_unchanged();
   EXPECT_EQ(ekf.counters().predictions_rejected, rejected + 2);
 
   // Inside the range (a kilometre, a variance of 1e6 m^2) it is applied.
@@ -105,17 +112,12 @@ TEST(EkfRange, PredictionBeyondTheRangeIsRefused) {
   EXPECT_TRUE(ekf.predict(long_step).applied());
 }
 
-TEST(EkfRange, LandmarkBeyondTheRangeIsNotInitialized) {
-  cs::Ekf ekf(drift_calibration(), drift_config());
-  prepare_drift_filter(ekf);
-  const Eigen::VectorXd x0 = ekf.state();
-  const Eigen::MatrixXd P0 = ekf.covariance();
+TEST_F(EkfRangeTest, LandmarkBeyondTheRangeIsNotInitialized) {
   const cs::RejectionCounters before = ekf.counters().rejections;
 
   EXPECT_EQ(ekf.initialize_landmark(160.0, 120.0, 2.0 * cs::Ekf::kMaxAbsState, 0.3), -1);
   EXPECT_EQ(ekf.initialize_landmark(160.0, 120.0, 2.0, 1e7), -1);  // eps_ct^2 of 1e14 m^2
-  EXPECT_EQ(ekf.state(), x0);
-  EXPECT_EQ(ekf.covariance(), P0);
+  expect_unchanged();
   EXPECT_EQ(ekf.counters().rejections[cs::ObservationResult::kOutOfRange],
             before[cs::ObservationResult::kOutOfRange] + 2);
   EXPECT_EQ(ekf.counters().rejections[cs::ObservationResult::kNonFinite],
@@ -125,18 +127,13 @@ TEST(EkfRange, LandmarkBeyondTheRangeIsNotInitialized) {
   EXPECT_GE(ekf.initialize_landmark(160.0, 120.0, 5.0, 1000.0), 0);
 }
 
-TEST(EkfRange, MismatchThatWouldMoveTheStateBeyondTheRangeIsRefused) {
-  cs::Ekf ekf(drift_calibration(), drift_config());
-  prepare_drift_filter(ekf);
-  const Eigen::VectorXd x0 = ekf.state();
-  const Eigen::MatrixXd P0 = ekf.covariance();
+TEST_F(EkfRangeTest, MismatchThatWouldMoveTheStateBeyondTheRangeIsRefused) {
   cs::OdometryIncrement::WheelGyroMismatch m;
   m.add(0.3, 0.05, 0.01, 1e-6);
   m.information_vector *= 1e12;  // finite; the update would move the bias beyond the range
   const std::uint64_t out_of_range = ekf.counters().rejections[cs::ObservationResult::kOutOfRange];
   EXPECT_EQ(ekf.fuse_wheel_gyro_mismatch(m, 0.0), cs::ObservationResult::kOutOfRange);
-  EXPECT_EQ(ekf.state(), x0);
-  EXPECT_EQ(ekf.covariance(), P0);
+  expect_unchanged();
   EXPECT_EQ(ekf.counters().rejections[cs::ObservationResult::kOutOfRange], out_of_range + 1);
 }
 
