@@ -1,0 +1,36 @@
+#pragma once
+
+#include "cleanslam/slam_core/dead_reckoner.hpp"
+#include "cleanslam/slam_core/ekf_config.hpp"
+#include "cleanslam/slam_core/frontend/frame_pipeline.hpp"
+
+namespace cleanslam::slam_core {
+
+// Map management shared by both input paths: which landmark a sighting belongs to, when a
+// landmark is made, deleted, mapped again and merged.
+struct MapConfig {
+  // A tracked feature whose landmark is predicted behind the camera re-initializes the landmark.
+  bool reinit_behind_camera = false;
+  // Re-sighting with the pose lost (yaw std. dev. above remap_min_yaw_std_deg): a landmark whose
+  // predicted pixel std. dev. exceeds remap_pixel_std_px is mapped again from its ray and merged
+  // into its earlier entry once its depth has converged or its track ends; 0: off.
+  double remap_pixel_std_px = 30.0;
+  double remap_min_yaw_std_deg = 3.0;
+  // ... only in frames with at most this many mapped landmarks in view.
+  int remap_max_mapped_in_view = 2;
+  // The merge's chi-square gate (3 dof); 0: none.
+  double remap_merge_gate_chi2 = 0.0;
+  // Frames with track ids: no visual update with fewer inliers.
+  int features_min_inliers = 1;
+};
+
+// Everything the estimator is configured with. Each key is listed once, with its name, default,
+// range, unit and meaning, in the parameter table.
+struct SlamConfig {
+  EkfConfig filter;
+  DeadReckoningConfig odometry;
+  frontend::FramePipelineConfig frontend;
+  MapConfig map;
+};
+
+}  // namespace cleanslam::slam_core
