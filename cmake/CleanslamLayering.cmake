@@ -1,4 +1,4 @@
-# Dependencies point one way (DESIGN.md):
+# Dependencies point one way (docs/architecture.md):
 #   tools -> firmware -> slam_core -> hal
 #                    |-> drivers  -> hal
 #                    `-> sim_hal  -> hal
@@ -35,7 +35,7 @@ function(cleanslam_enforce_layering)
     _cleanslam_links_of(${part} links)
     foreach(forbidden IN LISTS CLEANSLAM_FORBIDDEN_${part})
       if(forbidden IN_LIST links)
-        message(FATAL_ERROR "Layering violation: ${part} links ${forbidden}; see DESIGN.md (dependencies point one way)")
+        message(FATAL_ERROR "Layering violation: ${part} links ${forbidden}; see docs/architecture.md (dependencies point one way)")
       endif()
     endforeach()
   endforeach()

@@ -11,7 +11,7 @@
 #   DATASET    a dataset folder (e.g. cleanslam-sim default-room /tmp/ds --set duration_s=60)
 #   WORKDIR    where the callgrind dumps go (default: a temporary folder, removed); when given,
 #              the longest iteration's dump is named for callgrind_annotate (its parts' costs)
-# Budgets (issue 5): longest tick <= 5 M instructions, a whole frame <= 20 M.
+# Budgets: longest tick <= 5 M instructions, a whole frame <= 20 M.
 set -eu
 if [ $# -lt 2 ]; then
   sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'

@@ -9,8 +9,8 @@
 #include "cleanslam/slam_core/prediction_model.hpp"
 #include "numeric_jacobian.hpp"
 
-// Mechanisms for sparse landmarks and poor odometry (issue 7): the gyro bias state and the young
-// test on the depth given the pose.
+// Mechanisms for sparse landmarks and poor odometry (the sparse-poor-odometry scenario): the gyro
+// bias state and the young test on the depth given the pose.
 namespace cs = cleanslam::slam_core;
 namespace hal = cleanslam::hal;
 

@@ -31,8 +31,8 @@ double true_c() {
          (2.0 + kScaleLeft + kScaleRight);
 }
 
-// Issue 7's kind of motion: straight runs at 0.1-0.2 m/s, turns on the spot at 0.3 rad/s,
-// pauses; the readings of the gyro and the wheels for each encoder interval.
+// The sparse-poor-odometry scenario's kind of motion: straight runs at 0.1-0.2 m/s, turns on the
+// spot at 0.3 rad/s, pauses; the readings of the gyro and the wheels for each encoder interval.
 struct Interval {
   double theta = 0.0;  // true heading change
   cs::WheelYawFusion::Reading reading;

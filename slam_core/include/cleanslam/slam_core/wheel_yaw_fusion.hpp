@@ -6,9 +6,9 @@
 
 // The heading change of one encoder interval from the gyro and the wheels together. The paper
 // takes the heading from the gyro alone (Section 2.3); a cheap gyro's random walk (0.05
-// rad/s/sqrt(Hz) in issue 7's scene) then turns the heading by tens of degrees between
-// sightings, while a differential drive's wheels measure the same turn with an error that is
-// mostly systematic: unequal wheel scales and a wrong wheel base.
+// rad/s/sqrt(Hz) in the sparse-poor-odometry scenario) then turns the heading by tens of degrees
+// between sightings, while a differential drive's wheels measure the same turn with an error that
+// is mostly systematic: unequal wheel scales and a wrong wheel base.
 //
 // With w = (d_right - d_left) / wheel_base the wheels' heading change, d the body's distance and
 // dt the interval, the true change theta is modelled as
