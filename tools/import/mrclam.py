@@ -203,7 +203,7 @@ wheels:
   distance_noise: {c['distance_noise']:.4f}
   scale_error: {max(abs(1.0 - c['distance_scale']), 1e-4):.4f}
 gyro:
-  noise_density: {density:.5f}
+  noise_density: {max(density, 1e-5):.5f}
   bias_instability: {bias:.5f}
   scale_error: {max(scale, 1e-4):.4f}
 """
@@ -242,8 +242,8 @@ def import_robot(folder, robot, out, kind="commanded", seed=1, force=False):
     m = Mrclam(folder, robot)
     t0, t1 = span(m)
     if t1 - t0 < 2.0:
-        raise InputError(f"{folder}: robot {robot}'s odometry and Vicon overlap for {t1 - t0:.2f} s "
-                         "only")
+        raise InputError(f"{folder}: robot {robot}'s odometry and Vicon overlap for "
+                         f"{t1 - t0:.2f} s only")
     log(f"{t1 - t0:.1f} s of odometry and Vicon together; measuring the commands against Vicon")
     c = calibration(m, t0, t1)
     for ln in cal.describe(c, FOCAL_PX):
