@@ -19,6 +19,7 @@ arguments are wrong (2).
 
 import argparse
 import json
+import math
 import os
 import shlex
 import shutil
@@ -27,6 +28,8 @@ import subprocess
 import sys
 import tempfile
 import time
+
+import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import monte_carlo as mc  # noqa: E402
@@ -68,7 +71,7 @@ def progress(msg):
     print(f"real_table: {msg}", file=sys.stderr, flush=True)
 
 
-def run(tools, data, robot, gyro, seed, sets, base, bound, emulator):
+def run(tools, data, robot, gyro, seed, sets, base, bound, emulator, diagnose=False):
     os.makedirs(base, exist_ok=True)
     log = os.path.join(base, "log.txt")
     progress(f"robot {robot} --gyro {gyro}: importing, replaying")
@@ -80,6 +83,9 @@ def run(tools, data, robot, gyro, seed, sets, base, bound, emulator):
     r["nees_per_dof"] = None if r["nees_mean"] is None else r["nees_mean"] / mc.NEES_DOF
     for k in ("pose_nees_times_s", "pose_nees"):
         r.pop(k)
+    if diagnose:
+        r |= yaw_diagnostics(dataset, run_dir)
+        r["statuses"] = sighting_statuses(run_dir)
     if bound:
         progress(f"robot {robot} --gyro {gyro}: SLAM ATE {r['slam_ate_m']:.3f} m; "
                  "full_slam_bound.py (about 30 s)")
@@ -88,6 +94,62 @@ def run(tools, data, robot, gyro, seed, sets, base, bound, emulator):
         r["full_slam_ate_m"] = b["full_slam_ate_m"]
         r["smoothing_sd_m"] = b["smoothing_sd_m"]
     return r
+
+
+STATUSES = ("updated", "initialized", "merged", "gated", "depth_bound", "behind_camera", "skipped")
+
+
+def relative(x, y, yaw0):
+    """Positions relative to the first, in the frame of the first pose's heading yaw0."""
+    c, s = math.cos(yaw0), math.sin(yaw0)
+    return np.stack([c * (x - x[0]) + s * (y - y[0]), -s * (x - x[0]) + c * (y - y[0])], axis=1)
+
+
+def yaw_diagnostics(dataset, run_dir):
+    """The SLAM heading's error against its std. dev. (both relative to the first pose, as
+    --align none), and the dead reckoner's heading error: RMS in degrees, the fraction of poses
+    whose error exceeds 3 std. dev., the mean (x, y, yaw) NEES per dof."""
+    gt = np.loadtxt(os.path.join(dataset, "groundtruth.csv"), delimiter=",", comments="#",
+                    ndmin=2)
+    gt_t = gt[:, 0] * 1e-9
+    gt_yaw = np.unwrap(2.0 * np.arctan2(gt[:, 7], gt[:, 4]))
+
+    def errors(name):
+        est = np.loadtxt(os.path.join(run_dir, name), ndmin=2)  # t x y z qx qy qz qw
+        keep = (est[:, 0] >= gt_t[0]) & (est[:, 0] <= gt_t[-1])
+        est = est[keep]
+        yaw = np.unwrap(2.0 * np.arctan2(est[:, 6], est[:, 7]))
+        g = np.interp(est[:, 0], gt_t, gt_yaw)
+        gx, gy = np.interp(est[:, 0], gt_t, gt[:, 1]), np.interp(est[:, 0], gt_t, gt[:, 2])
+        dyaw = (yaw - yaw[0]) - (g - g[0])
+        dpos = relative(est[:, 1], est[:, 2], yaw[0]) - relative(gx, gy, g[0])
+        return keep, (dyaw + np.pi) % (2.0 * np.pi) - np.pi, dpos
+
+    keep, e, dpos = errors("trajectory.tum")
+    cov = np.loadtxt(os.path.join(run_dir, "trajectory.tum.cov"), ndmin=2)[keep]
+    P = cov[:, 1:].reshape(-1, 6, 6)[:, [0, 1, 5]][:, :, [0, 1, 5]]
+    err = np.column_stack([dpos, e])
+    nees = [float(v @ np.linalg.solve(p, v)) / 3.0 for v, p in zip(err, P)
+            if np.all(np.linalg.eigvalsh(p) > 0)]
+    sd = np.sqrt(np.maximum(P[:, 2, 2], 0.0))
+    _, e_dr, _ = errors("dead_reckoning.tum")
+    return {"slam_yaw_rms_deg": math.degrees(float(np.sqrt(np.mean(e * e)))),
+            "slam_yaw_sd_rms_deg": math.degrees(float(np.sqrt(np.mean(sd * sd)))),
+            "yaw_beyond_3sd": float(np.mean(np.abs(e) > 3.0 * sd)),
+            "pose_nees_per_dof": float(np.mean(nees)) if nees else None,
+            "dr_yaw_rms_deg": math.degrees(float(np.sqrt(np.mean(e_dr * e_dr))))}
+
+
+def sighting_statuses(run_dir):
+    """Counts of cleanslam-replay's update records (diagnostics.csv) by status."""
+    counts = dict.fromkeys(STATUSES, 0)
+    with open(os.path.join(run_dir, "diagnostics.csv"), encoding="utf-8") as f:
+        next(f, None)
+        for line in f:
+            parts = line.split(",")
+            if len(parts) > 3:
+                counts[parts[3]] = counts.get(parts[3], 0) + 1
+    return counts
 
 
 def parse_list(text, allowed, what):
@@ -137,6 +199,27 @@ def markdown(robots, gyros, results, failures, bound, sets):
                "dev. given the data up to each frame; full SLAM ATE: its smoothed trajectory's "
                "ATE, started from the truth." if bound else "") +
               " Run time: cleanslam-replay and the two cleanslam-eval calls."]
+    return "\n".join(lines)
+
+
+def diagnosis_markdown(robots, gyros, results):
+    head = ["robot", "gyro", "SLAM yaw RMS deg", "its std. dev. RMS deg", "yaw beyond 3 sd",
+            "(x, y, yaw) NEES/dof", "DR yaw RMS deg"] + list(STATUSES)
+    lines = ["| " + " | ".join(head) + " |", "|---:|---|" + "|".join(["---:"] * (len(head) - 2)) +
+             "|"]
+    for robot in robots:
+        for g in gyros:
+            r = results.get((robot, g))
+            if r is None or "statuses" not in r:
+                continue
+            lines.append(f"| {robot} | {g} | {r['slam_yaw_rms_deg']:.1f} | "
+                         f"{r['slam_yaw_sd_rms_deg']:.1f} | {r['yaw_beyond_3sd']:.0%} | "
+                         f"{st._f(r['pose_nees_per_dof'], '.3g')} | {r['dr_yaw_rms_deg']:.1f} | " +
+                         " | ".join(str(r["statuses"].get(k, 0)) for k in STATUSES) + " |")
+    lines += ["", "Heading errors relative to the first pose (as --align none); yaw beyond 3 sd: "
+              "fraction of poses whose heading error exceeds three times the filter's heading "
+              "std. dev.; statuses: cleanslam-replay's update records (diagnostics.csv): one per "
+              "sighting in a frame, plus merges."]
     return "\n".join(lines)
 
 
@@ -190,6 +273,9 @@ def main(argv=None):
                     help="cleanslam-replay --set key=value for every run (repeatable)")
     ap.add_argument("--no-bound", dest="bound", action="store_false",
                     help="leave out full_slam_bound.py (about 30 s a run)")
+    ap.add_argument("--diagnose", action="store_true",
+                    help="a second table: heading error against its std. dev., dead reckoning's "
+                    "heading error, and the update records by status")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--out", help="keep datasets and runs here (default: temporary)")
     ap.add_argument("--json", action="store_true", help="one JSON object instead of Markdown")
@@ -220,7 +306,7 @@ def main(argv=None):
     try:
         tasks = [((robot, g), lambda robot=robot, g=g: run(
             tools, a.data, robot, g, a.seed, a.sets, os.path.join(work, f"robot{robot}_{g}"),
-            a.bound, emulator)) for robot in robots for g in gyros]
+            a.bound, emulator, a.diagnose)) for robot in robots for g in gyros]
         results, failures = mc.run_parallel(a.jobs, tasks, "import, replay" +
                                             (", bound" if a.bound else ""))
     finally:
@@ -242,6 +328,8 @@ def main(argv=None):
         print()
     else:
         print(markdown(robots, gyros, results, failures, a.bound, a.sets))
+        if a.diagnose:
+            print("\n" + diagnosis_markdown(robots, gyros, results))
         for k, v in sorted(failures.items()):
             print(f"\nFAILED robot {k[0]} --gyro {k[1]}: {v}")
     return 1 if failures or plot_failed else 0
