@@ -227,11 +227,13 @@ def plot(robots, gyros, results, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import FuncFormatter, LogLocator
     fig, (ax_ate, ax_nees) = plt.subplots(1, 2, figsize=(14, 5.2),
                                           gridspec_kw={"width_ratios": [3, 2]})
     keys = [(r, g) for r in robots for g in gyros]
     xs = range(len(keys))
-    labels = [f"{r}\n{g}" for r, g in keys]
+    short = {"commanded": "cmd", "mems": "mems"}
+    labels = [f"R{r}\n{short[g]}" for r, g in keys]
     series = [("dr_ate_m", "DR ATE", "tab:gray", "s"), ("slam_ate_m", "SLAM ATE", "tab:blue", "o"),
               ("filtering_sd_m", "bound: filtering std. dev.", "k", "D"),
               ("full_slam_ate_m", "bound: full SLAM ATE", "tab:green", "v")]
@@ -246,17 +248,26 @@ def plot(robots, gyros, results, path):
     ax_ate.set_title("ATE (--align none) and the full-SLAM bound")
     pts = [(x, results[k]["nees_per_dof"]) for x, k in zip(xs, keys)
            if k in results and results[k].get("nees_per_dof") is not None]
-    ax_nees.bar([p[0] for p in pts], [p[1] for p in pts], 0.6, color="tab:blue")
+    colors = {"commanded": "tab:orange", "mems": "tab:blue"}
+    for g in gyros:
+        sel = [(x, v) for (x, v), k in zip(pts, [keys[x] for x, _ in pts]) if k[1] == g]
+        ax_nees.bar([p[0] for p in sel], [p[1] for p in sel], 0.6, color=colors[g],
+                    label=f"gyro {g}")
     ax_nees.set_yscale("log")
     ax_nees.axhline(1.0, color="k", ls=":", lw=1.0, label="consistent (1)")
     ax_nees.axhspan(0.5, 2.0, color="g", alpha=0.15, label="[0.5, 2]")
     ax_nees.set_ylabel("mean position NEES per dof (log)")
     ax_nees.set_title("SLAM consistency")
     for ax in (ax_ate, ax_nees):
-        ax.set_xticks(list(xs), labels, fontsize=8)
+        ax.yaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: ""))
+        for k in range(1, len(robots)):
+            ax.axvline(k * len(gyros) - 0.5, color="0.8", lw=0.8)
+        ax.set_xticks(list(xs), labels, fontsize=9)
         ax.set_xlabel("robot, gyro")
-        ax.grid(True, which="both", axis="y", alpha=0.3)
-        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=4)
+        ax.grid(True, which="major", axis="y", alpha=0.3)
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
