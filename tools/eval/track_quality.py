@@ -268,9 +268,12 @@ class ReferenceGeometry:
             if n_ref >= REF_MIN_POINTS:
                 a, b = ds.undistort(p0[keep]), ds.undistort(p1[keep])
                 Fm, mask = cv2.findFundamentalMat(a, b, cv2.FM_RANSAC, REF_RANSAC_PX, 0.999, 5000)
-                if Fm is not None and Fm.shape == (3, 3):
-                    F = Fm
-                    n_in = int(mask.sum()) if mask is not None else 0
+                if Fm is not None and Fm.shape == (3, 3) and mask is not None:
+                    inl = mask.reshape(-1).astype(bool)
+                    n_in = int(inl.sum())
+                    # RANSAC's model comes from 7 points: refit to all its inliers.
+                    F8, _ = cv2.findFundamentalMat(a[inl], b[inl], cv2.FM_8POINT)
+                    F = F8 if F8 is not None and F8.shape == (3, 3) else Fm
         self.F[k] = F
         self.stats[k] = (n_ref, n_in, motion)
         return F
