@@ -26,8 +26,9 @@ Metrics (the frames are the dataset's first --max-frames frames, all of them by 
                     the square root of the first-order geometric error, shared by both images) of
                     the correspondence to a fundamental matrix of that frame pair: median, 95th
                     percentile, maximum, and the worst correspondences. The matrix is fitted by
-                    RANSAC (1 px) to dense reference tracks: goodFeaturesToTrack corners followed
-                    by calcOpticalFlowPyrLK forward and back, kept when they come back within
+                    RANSAC (1 px), then by the normalized 8-point method to all RANSAC inliers, to
+                    dense reference tracks: goodFeaturesToTrack corners followed by
+                    calcOpticalFlowPyrLK forward and back, kept when they come back within
                     0.5 px. Points are undistorted with sensors.yaml's intrinsics first. A pair
                     with fewer than 20 reference tracks gets no matrix; its correspondences are
                     counted as unscored.
