@@ -43,6 +43,14 @@ border and in the top --new-rows fraction of the image (default 0.7): the front 
 new landmarks (min_in_view / target_in_view, exclusion_px, patch margin,
 new_landmark_max_row_fraction). --baseline-out FILE writes its tracks as features.csv.
 
+--why-ended: for every track that ended mid-image, how its appearance had changed, as the
+zero-mean NCC of 15 x 15 windows (the front end's matching window; bilinear, sub-pixel): its
+first-sighting window against its window at its last observation, and against the window in the
+next frame where dense LK (forward-backward within 0.5 px) puts the point; and its window at the
+last observation against that next window. A track lost while LK still follows the point, whose
+next window still matches its last one but no longer its first, was lost to appearance change
+against the first-sighting template, not to occlusion or leaving the view.
+
 Options: --margin PX, --max-frames N, --json (one JSON object on stdout instead of the table).
 Progress goes to stderr. Exit status 0, 1 when a file is missing or malformed (the message names
 it, and the line), 2 on bad arguments, 3 when python3-opencv is not installed.
@@ -75,6 +83,7 @@ LK_WINDOW = (21, 21)
 LK_LEVELS = 3
 NEW_CORNER_BORDER_PX = 17
 WORST_SHOWN = 5
+NCC_RADIUS = 7
 
 
 class InputError(Exception):
@@ -366,6 +375,70 @@ def median(values):
     return float(np.median(values)) if len(values) else float("nan")
 
 
+def window(img, u, v):
+    size = (2 * NCC_RADIUS + 1, 2 * NCC_RADIUS + 1)
+    return cv2.getRectSubPix(img.astype(np.float32), size, (float(u), float(v))).astype(np.float64)
+
+
+def ncc(a, b):
+    a, b = a - a.mean(), b - b.mean()
+    d = math.sqrt(float((a * a).sum() * (b * b).sum()))
+    return float((a * b).sum() / d) if d > 0.0 else float("nan")
+
+
+def why_ended(ds, tracks, margin, min_ncc):
+    """Appearance of the tracks that ended mid-image (see --why-ended)."""
+    last = len(ds) - 1
+    W, H = ds.width, ds.height
+    rows = []
+    for tid, obs in sorted(tracks.items()):
+        k_end, u, v = obs[-1]
+        if k_end == last or min(u + 0.5, v + 0.5, W - 0.5 - u, H - 0.5 - v) <= margin:
+            continue
+        k0, u0, v0 = obs[0]
+        first = window(ds.image(k0), u0, v0)
+        at_last = window(ds.image(k_end), u, v)
+        q, err = forward_backward(ds.image(k_end), ds.image(k_end + 1), [(u, v)])
+        qu, qv = (float(x) for x in q[0])
+        followed = bool(err[0] < REF_FB_PX and
+                        min(qu, qv, W - 1 - qu, H - 1 - qv) > NCC_RADIUS)
+        nxt = window(ds.image(k_end + 1), qu, qv) if followed else None
+        rows.append({
+            "track_id": int(tid), "length": len(obs), "t_ns_last": int(ds.t_ns[k_end]),
+            "u_px": u, "v_px": v, "ncc_first_last": ncc(first, at_last),
+            "lk_followed": followed,
+            "ncc_first_next": ncc(first, nxt) if followed else float("nan"),
+            "ncc_last_next": ncc(at_last, nxt) if followed else float("nan"),
+        })
+    followed = [r for r in rows if r["lk_followed"]]
+    first_next = [r["ncc_first_next"] for r in followed]
+    return {
+        "ended_mid_image": len(rows),
+        "lk_followed": len(followed),
+        "ncc_first_last_median": median([r["ncc_first_last"] for r in rows]),
+        "ncc_first_next_median": median(first_next),
+        "ncc_first_next_below_min": sum(1 for n in first_next if n < min_ncc),
+        "ncc_last_next_median": median([r["ncc_last_next"] for r in followed]),
+        "ncc_last_next_at_least_min": sum(1 for r in followed if r["ncc_last_next"] >= min_ncc),
+        "tracks": rows,
+    }
+
+
+def print_why_ended(name, w, min_ncc):
+    print(f"why ended mid-image ({name}): {w['ended_mid_image']} tracks, {w['lk_followed']} still "
+          f"followed by LK into the next frame; NCC of the first-sighting window: median "
+          f"{w['ncc_first_last_median']:.3f} at the last observation, "
+          f"{w['ncc_first_next_median']:.3f} in the next frame ({w['ncc_first_next_below_min']} "
+          f"below {min_ncc}); last observation's window against the next: median "
+          f"{w['ncc_last_next_median']:.3f} ({w['ncc_last_next_at_least_min']} at least {min_ncc})")
+    print("  track  length  t_ns_last         u      v   first/last  first/next  last/next")
+    for r in w["tracks"]:
+        nxt = (f"{r['ncc_first_next']:10.3f}  {r['ncc_last_next']:9.3f}" if r["lk_followed"] else
+               f"{'LK lost':>10}  {'-':>9}")
+        print(f"  {r['track_id']:5d}  {r['length']:6d}  {r['t_ns_last']:<14d} {r['u_px']:6.1f} "
+              f"{r['v_px']:6.1f}  {r['ncc_first_last']:10.3f}  {nxt}")
+
+
 def measure(ds, tracks, ref, margin):
     n_frames = len(ds)
     last = n_frames - 1
@@ -496,6 +569,10 @@ def main(argv=None):
     ap.add_argument("--baseline-out", metavar="FILE")
     ap.add_argument("--margin", type=float, default=15.0, metavar="PX")
     ap.add_argument("--max-frames", type=int, metavar="N")
+    ap.add_argument("--why-ended", action="store_true",
+                    help="appearance change of the tracks that ended mid-image")
+    ap.add_argument("--min-ncc", type=float, default=0.8, metavar="X",
+                    help="--why-ended: the front end's NCC threshold (default 0.8)")
     ap.add_argument("--json", action="store_true")
     a = ap.parse_args(argv)
     if a.tracks is None and a.opencv_baseline is None:
@@ -533,6 +610,8 @@ def main(argv=None):
         for name, tracks in sets.items():
             print(f"{TOOL}: measuring {name} ({len(tracks)} tracks)", file=sys.stderr, flush=True)
             results[name] = measure(ds, tracks, ref, a.margin)
+            if a.why_ended:
+                results[name]["why_ended"] = why_ended(ds, tracks, a.margin, a.min_ncc)
     except InputError as e:
         print(f"{TOOL}: {e}", file=sys.stderr)
         return 1
@@ -549,6 +628,9 @@ def main(argv=None):
         print()
     else:
         print_table(results, reference)
+        for name, r in results.items():
+            if "why_ended" in r:
+                print_why_ended(name, r["why_ended"], a.min_ncc)
     return 0
 
 

@@ -4,7 +4,7 @@ sideways by known amounts (2 and 5 px per frame, so the geometry has a unique fu
 with horizontal epipolar lines), with tracks written so that some end mid-image, some at the
 border, one is still seen in the last frame, one skips a frame and one jumps 3 px across its
 epipolar line (Sampson distance 3 / sqrt(2) px). Every metric is checked against its value worked
-out by hand; then the OpenCV baseline on the same images, its --baseline-out tracks measured
+out by hand, and --why-ended's appearance figures; then the OpenCV baseline on the same images, its --baseline-out tracks measured
 again, and bad input. Exit 77 (skipped) without python3-opencv or python3-yaml.
 Argument: WORK_DIR."""
 
@@ -137,6 +137,23 @@ check(worst.get("track_id") == 4 and worst.get("t_ns") == T0_NS + 5 * DT_NS,
 if out:
     ref = out["reference"]
     check(ref["pairs_fitted"] == FRAMES - 1, f"reference F fitted for {ref['pairs_fitted']} pairs")
+
+# --why-ended: tracks 2 and 6 were lost though their windows still match the first sighting
+# exactly; track 4 follows another point since its jump, 3 px from the one first seen.
+w = run_json(ds, tracks, "--why-ended")
+w = w["results"]["tracks.csv"].get("why_ended", {}) if w else {}
+ended = {r["track_id"]: r for r in w.get("tracks", [])}
+check(sorted(ended) == [2, 4, 6] and w.get("lk_followed") == 3, f"--why-ended tracks {sorted(ended)}")
+for tid in (2, 6):
+    r = ended.get(tid, {})
+    check(all(r.get(k, 0) > 0.99 for k in ("ncc_first_last", "ncc_first_next", "ncc_last_next")),
+          f"--why-ended track {tid}: {r}")
+r = ended.get(4, {})
+check(r.get("ncc_first_last", 1) < 0.7 and r.get("ncc_first_next", 1) < 0.7 and
+      r.get("ncc_last_next", 0) > 0.99, f"--why-ended track 4: {r}")
+check(w.get("ncc_first_next_below_min") == 1 and w.get("ncc_last_next_at_least_min") == 3,
+      f"--why-ended counts: {w.get('ncc_first_next_below_min')}, "
+      f"{w.get('ncc_last_next_at_least_min')}")
 
 # The margin decides border against mid-image: at 9 px track 3 (10.5 px in) ends mid-image,
 # track 5 (8.5 px in) still at the border.
