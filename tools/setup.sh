@@ -12,7 +12,8 @@ demo_packages=(
   libeigen3-dev libyaml-dev libpng-dev libgtest-dev libbenchmark-dev libgpiod-dev
 )
 host_packages=(
-  "${demo_packages[@]}" gpiod libopencv-dev valgrind clang-format can-utils v4l-utils
+  "${demo_packages[@]}" gpiod libopencv-dev python3-opencv python3-yaml valgrind clang-format
+  can-utils v4l-utils
   g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user qemu-user-static
   qemu-system-arm busybox-static cpio kmod
 )
