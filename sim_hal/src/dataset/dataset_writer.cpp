@@ -2,7 +2,7 @@
 
 #include <filesystem>
 
-#include "cleanslam/readers/gray_image.hpp"
+#include "cleanslam/sim_hal/gray_image_writer.hpp"
 
 namespace cleanslam::sim_hal {
 namespace fs = std::filesystem;
@@ -58,7 +58,7 @@ readers::Status DatasetWriter::add_image(hal::TimeNs t_ns, const hal::GrayImageV
   const bool png = image_format_ == ImageFormat::kPng;
   const std::string name = std::to_string(t_ns) + (png ? ".png" : ".pgm");
   const std::string path = (fs::path(folder_) / "cam0" / "data" / name).string();
-  readers::Status s = png ? readers::write_png(path, image) : readers::write_pgm(path, image);
+  readers::Status s = png ? write_png(path, image) : write_pgm(path, image);
   if (!s) return s;
   camera_ << t_ns << ',' << name << '\n';
   return readers::Status();

@@ -9,6 +9,7 @@
 #include "cleanslam/readers/dataset_source.hpp"
 #include "cleanslam/readers/gray_image.hpp"
 #include "cleanslam/sim_hal/dataset_writer.hpp"
+#include "cleanslam/sim_hal/gray_image_writer.hpp"
 
 namespace fs = std::filesystem;
 using namespace cleanslam;
@@ -239,7 +240,7 @@ TEST(Dataset, MissingImage) {
 TEST(Dataset, WrongImageSize) {
   TempDir dir;
   make_dataset(dir.str());
-  ASSERT_TRUE(readers::write_png((dir.path() / "cam0" / "data" / "250000000.png").string(),
+  ASSERT_TRUE(sim_hal::write_png((dir.path() / "cam0" / "data" / "250000000.png").string(),
                                  pattern(16, 24, 0).view())
                   .ok());
   const std::string e = load_error(dir.str());
@@ -327,7 +328,7 @@ TEST(Dataset, ImagesRoundTripAsPgmAndPng) {
   for (const char* name : {"a.pgm", "a.png"}) {
     const std::string p = (dir.path() / name).string();
     const bool png = std::string(name).ends_with("png");
-    ASSERT_TRUE((png ? readers::write_png(p, img.view()) : readers::write_pgm(p, img.view())).ok());
+    ASSERT_TRUE((png ? sim_hal::write_png(p, img.view()) : sim_hal::write_pgm(p, img.view())).ok());
     readers::GrayImage back;
     ASSERT_TRUE(readers::read_gray_image(p, back).ok());
     EXPECT_EQ(back.width, 40);
@@ -410,7 +411,7 @@ TEST(DatasetSource, LoadsEachImageWhenItIsItsTurn) {
   auto src = DatasetSource::open(dir.str());
   ASSERT_TRUE(src.ok()) << src.error();
   // Replaced after open: the source must read the new pixels, so it did not preload them.
-  ASSERT_TRUE(readers::write_png((dir.path() / "cam0" / "data" / "750000000.png").string(),
+  ASSERT_TRUE(sim_hal::write_png((dir.path() / "cam0" / "data" / "750000000.png").string(),
                                  readers::GrayImage(32, 24, 99).view())
                   .ok());
   hal::SensorEvent ev;

@@ -44,7 +44,4 @@ Status read_gray_image(const std::string& path, GrayImage& out);
 // Reads only the header to learn the size (and that the file is a supported gray image).
 Result<ImageSize> read_gray_image_size(const std::string& path);
 
-Status write_pgm(const std::string& path, const hal::GrayImageView& image);
-Status write_png(const std::string& path, const hal::GrayImageView& image);
-
 }  // namespace cleanslam::readers
