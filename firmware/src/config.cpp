@@ -6,12 +6,12 @@
 #include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/hal/calibration_limits.hpp"
 #include "cleanslam/hal/capacities.hpp"
-#include "cleanslam/sim_hal/dataset.hpp"
-#include "cleanslam/sim_hal/yaml_document.hpp"
+#include "cleanslam/readers/dataset.hpp"
+#include "cleanslam/readers/yaml_document.hpp"
 
 namespace cleanslam::firmware {
 
-namespace yaml = sim_hal::yaml;
+namespace yaml = readers::yaml;
 
 namespace {
 
@@ -353,7 +353,7 @@ ConfigResult finish(yaml::Node root, const std::vector<std::string>& overrides) 
 }
 
 std::string fmt(double v) {
-  return sim_hal::format_double(v);
+  return readers::format_double(v);
 }
 
 std::string quoted(const std::string& s) {
@@ -398,7 +398,7 @@ std::string config_text(const FirmwareConfig& c) {
   const auto secs = [](hal::TimeNs ns) { return fmt(static_cast<double>(ns) * 1e-9); };
   s << "calibration_from_dataset: " << (c.calibration_from_dataset ? "true" : "false") << "\n";
   s << "calibration:\n";
-  std::istringstream cal(sim_hal::sensors_yaml_text(c.calibration));
+  std::istringstream cal(readers::sensors_yaml_text(c.calibration));
   for (std::string line; std::getline(cal, line);) {
     s << "  " << line << "\n";
   }

@@ -15,7 +15,7 @@
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/sinks.hpp"
 #include "cleanslam/firmware/slam_estimator.hpp"
-#include "cleanslam/sim_hal/dataset_source.hpp"
+#include "cleanslam/readers/dataset_source.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
 #include "fakes.hpp"
 
@@ -46,7 +46,7 @@ struct SimulatedRun {
     if (!scenario.ok() || !sim_hal::sim::simulate(*scenario, dir.string()).ok()) {
       return;
     }
-    auto ds = sim_hal::DatasetSource::open(dir.string());
+    auto ds = readers::DatasetSource::open(dir.string());
     if (!ds.ok()) {
       return;
     }

@@ -6,7 +6,7 @@
 #include "cleanslam/firmware/loop.hpp"
 #include "cleanslam/firmware/recorder.hpp"
 #include "cleanslam/hal/calibration.hpp"
-#include "cleanslam/sim_hal/result.hpp"
+#include "cleanslam/readers/result.hpp"
 
 namespace cleanslam::firmware {
 
