@@ -23,12 +23,14 @@ constexpr const char* kUsage =
     "usage: cleanslam [--config FILE] [--set key=value ...]\n"
     "                 [--dataset DIR | --log LOG] [--realtime] [--record LOG] [--tum FILE]\n"
     "       cleanslam --replay LOG [--replay-out FILE]\n"
-    "       cleanslam --version | --help\n"
+    "       cleanslam --print-sample-config | --version | --help\n"
     "Runs the localization loop on the robot's drivers, a dataset folder or a recorded log.\n"
     "--replay feeds a recorded log back through the loop at its recorded iterations and checks\n"
     "that the outputs are reproduced bit for bit (exit 0), else names the first difference\n"
     "(exit 1). --dataset/--log/--realtime/--record/--tum are shorthands for --set source.kind=,\n"
-    "source.path=, source.realtime=true, recorder.path=, sinks.tum=.\n";
+    "source.path=, source.realtime=true, recorder.path=, sinks.tum=.\n"
+    "--print-sample-config prints every key with its default, range and meaning\n"
+    "(firmware/config/cleanslam.sample.yaml).\n";
 
 struct Args {
   std::string config_path;
@@ -37,6 +39,7 @@ struct Args {
   std::string replay_out;
   bool help = false;
   bool version = false;
+  bool print_sample_config = false;
 };
 
 std::optional<Args> parse_args(int argc, char** argv) {
@@ -55,6 +58,8 @@ std::optional<Args> parse_args(int argc, char** argv) {
       a.help = true;
     } else if (arg == "--version") {
       a.version = true;
+    } else if (arg == "--print-sample-config") {
+      a.print_sample_config = true;
     } else if (arg == "--realtime") {
       a.sets.emplace_back("source.realtime=true");
     } else if (arg == "--config" || arg == "--set" || arg == "--replay" || arg == "--replay-out" ||
@@ -447,6 +452,10 @@ int program_main(int argc, char** argv) {
   }
   if (args->version) {
     std::printf("cleanslam 0.1.0\n");
+    return 0;
+  }
+  if (args->print_sample_config) {
+    std::fputs(sample_config_text().c_str(), stdout);
     return 0;
   }
   if (!args->replay_log.empty()) {

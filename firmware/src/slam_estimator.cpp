@@ -32,70 +32,40 @@ lf::UpdateStatus record_status(slam_core::ObservationResult r) {
   }
 }
 
+slam_core::SlamConfig slam_config(const FirmwareConfig& c) {
+  slam_core::SlamConfig s = c.slam;
+  slam_core::derive_dependent_settings(s);
+  return s;
+}
+
 slam_core::EkfConfig ekf_config(const FirmwareConfig& c) {
-  slam_core::EkfConfig e;
-  e.eps_ct_m = c.filter.eps_ct_m;
-  e.assumed_depth_m = c.filter.assumed_depth_m;
-  e.eps_trk_px = c.filter.eps_trk_px;
-  e.eps_cal_px = c.filter.eps_cal_px;
-  e.gate_chi2 = c.filter.gate_chi2;
-  e.max_landmarks = c.filter.max_landmarks;
-  e.consider_young_landmarks = c.filter.consider_young_landmarks;
-  e.young_depth_std_fraction = c.filter.young_depth_std_fraction;
-  e.young_depth_given_pose = c.filter.young_depth_given_pose;
-  e.depth_bounds = c.filter.depth_bounds;
-  e.invariant_reset = c.filter.invariant_reset;
-  e.merge_considers_kept = c.filter.remap_merge_consider_earlier;
-  e.second_order_yaw = c.filter.second_order_yaw;
-  e.merge_across_ray = c.filter.remap_merge_across_ray;
-  e.max_depth_m = c.filter.max_depth_m;
-  e.gyro_bias_state = c.filter.gyro_bias_state;
-  e.gyro_bias_walk = c.filter.gyro_bias_walk;
-  e.distance_scale_state = c.filter.distance_scale_state;
-  e.wheel_drift_state = c.filter.wheel_drift_state;
-  e.wheel_drift_std_rad_per_m = c.filter.wheel_yaw_drift_std_rad_per_m;
-  if (c.filter.gyro_errors_from_calibration) {
+  slam_core::EkfConfig e = slam_config(c).filter;
+  if (c.gyro_errors_from_calibration) {
     e.gyro_bias_walk = std::max(e.gyro_bias_walk, c.calibration.gyro.bias_walk);
   }
   return e;
 }
 
 slam_core::DeadReckoningConfig dead_reckoning_config(const FirmwareConfig& c) {
-  slam_core::DeadReckoningConfig d;
+  slam_core::DeadReckoningConfig d = slam_config(c).odometry;
   d.gyro_timeout_s = hal::to_seconds(c.loop.gyro_timeout_ns);
-  d.encoder_yaw_noise_rad_per_sqrt_m = c.filter.encoder_yaw_noise_rad_per_sqrt_m;
-  d.standstill_rate_rad_s = c.frontend.standstill_rate_rad_s;
-  d.standstill_window_s = c.frontend.standstill_window_s;
-  d.gyro_bias_correlation_time_s = c.filter.gyro_bias_correlation_time_s;
-  d.distance_scale_correlation_m = c.filter.distance_scale_correlation_m;
-  d.gyro_scale_error = c.filter.gyro_scale_error;
-  if (c.filter.gyro_errors_from_calibration) {
+  if (c.gyro_errors_from_calibration) {
     d.gyro_scale_error = std::max(d.gyro_scale_error, c.calibration.gyro.scale_error);
   }
-  d.bias_in_state = c.filter.gyro_bias_state;
-  d.scale_in_state = c.filter.distance_scale_state;
-  d.hold_heading_when_still = c.filter.hold_heading_when_still;
-  d.wheel_yaw.enabled = c.filter.wheel_yaw_fusion;
-  d.wheel_yaw.window_intervals = c.filter.wheel_yaw_window_intervals;
-  d.wheel_yaw.gate_chi2 = c.filter.wheel_yaw_gate_chi2;
-  d.wheel_yaw.scale_std = c.filter.wheel_yaw_scale_std;
-  d.wheel_yaw.drift_std_rad_per_m = c.filter.wheel_yaw_drift_std_rad_per_m;
-  d.wheel_yaw.calibration_correlation_time_s = c.filter.wheel_yaw_correlation_time_s;
-  d.drift_in_state = c.filter.wheel_drift_state;
   return d;
 }
 
+// Frames of tracked features: the front end's data association with their own inlier minimum.
 slam_core::frontend::JcbbConfig jcbb_config(const FirmwareConfig& c) {
-  slam_core::frontend::JcbbConfig j;
-  j.min_inliers = c.frontend.features_min_inliers;
+  slam_core::frontend::JcbbConfig j = c.slam.frontend.jcbb;
+  j.min_inliers = c.slam.map.features_min_inliers;
   return j;
 }
 
 slam_core::frontend::FramePipelineConfig pipeline_config(const FirmwareConfig& c) {
-  slam_core::frontend::FramePipelineConfig p;
+  slam_core::frontend::FramePipelineConfig p = c.slam.frontend;
   p.width = c.calibration.camera.width;
   p.height = c.calibration.camera.height;
-  p.jcbb.min_inliers = c.frontend.min_inliers;
   return p;
 }
 
@@ -160,10 +130,11 @@ void SlamEstimator::predict(hal::TimeNs t_ns, bool /*gyro_ok: the dead reckoner 
   if (t_ns > predicted_to_ns_ && !ekf_.update_pending()) {
     const slam_core::OdometryIncrement u = dr_.take_increment(t_ns);
     ekf_.predict(u);
-    if (config_.filter.wheel_drift_state) {
+    if (config_.slam.filter.wheel_drift_state) {
       // Every increment: fused window by window instead, the same information costs 0.27 m of
       // ATE on sparse seeds 1-40 (standard error 0.12 m).
-      ekf_.fuse_wheel_gyro_mismatch(u.wheel_gyro_mismatch, config_.filter.wheel_yaw_gate_chi2);
+      ekf_.fuse_wheel_gyro_mismatch(u.wheel_gyro_mismatch,
+                                    config_.slam.odometry.wheel_yaw.gate_chi2);
       share_wheel_state();
       record_mismatch(t_ns);
     }
@@ -289,7 +260,7 @@ bool SlamEstimator::associate_features() {
     feature_slot_[static_cast<std::size_t>(i)] = slot_of(frame_.features[i].track_id);
     mapped += feature_slot_[static_cast<std::size_t>(i)] >= 0 ? 1 : 0;
   }
-  remap_allowed_ = mapped <= config_.filter.remap_max_mapped_in_view;
+  remap_allowed_ = mapped <= config_.slam.map.remap_max_mapped_in_view;
   int m = 0;
   int fresh = 0;
   for (int i = 0; i < n; ++i) {
@@ -305,7 +276,7 @@ bool SlamEstimator::associate_features() {
       continue;
     }
     slam_core::PixelPrediction pp;
-    if (m < kMaxObs && config_.filter.reinit_behind_camera &&
+    if (m < kMaxObs && config_.slam.map.reinit_behind_camera &&
         !(ekf_.predict_pixel(slot, pp) && pp.in_front)) {
       // Seen, so in front: the landmark's estimate is wrong, a new one starts from this ray.
       ekf_.delete_landmark(slot);
@@ -420,13 +391,13 @@ void SlamEstimator::initialize_features() {
 }
 
 bool SlamEstimator::needs_remap(int slot) const {
-  const double limit = config_.filter.remap_pixel_std_px;
+  const double limit = config_.slam.map.remap_pixel_std_px;
   if (!(limit > 0.0) || !remap_allowed_ || merge_target_[static_cast<std::size_t>(slot)] >= 0) {
     return false;
   }
   // Only with the heading lost: with a known pose a poor prediction is the landmark's own doing.
   if (!(std::sqrt(std::max(0.0, ekf_.pose_covariance()(5, 5))) >
-        config_.filter.remap_min_yaw_std_deg * std::numbers::pi / 180.0)) {
+        config_.slam.map.remap_min_yaw_std_deg * std::numbers::pi / 180.0)) {
     return false;
   }
   slam_core::PixelPrediction pp;
@@ -455,14 +426,14 @@ void SlamEstimator::merge_remapped() {
       seen = seen || obs_[static_cast<std::size_t>(i)].slot == s;
     }
     const double rel = ekf_.relative_depth_std(s);
-    if (seen && !(rel >= 0.0 && rel < config_.filter.young_depth_std_fraction)) {
+    if (seen && !(rel >= 0.0 && rel < config_.slam.filter.young_depth_std_fraction)) {
       continue;
     }
     const std::int64_t track = slot_owner_[ss];
     merge_target_[ss] = -1;
     const hal::FeatureObservation f{track, 0.0, 0.0};
     const int records_before = record_count_;
-    if (ekf_.merge_landmarks(earlier, s, config_.filter.remap_merge_gate_chi2) ==
+    if (ekf_.merge_landmarks(earlier, s, config_.slam.map.remap_merge_gate_chi2) ==
         slam_core::ObservationResult::kFused) {
       slot_owner_[static_cast<std::size_t>(earlier)] = track;
       slot_owner_[ss] = -1;
@@ -544,7 +515,7 @@ ObservationRejections SlamEstimator::observation_rejections() const {
 }
 
 bool SlamEstimator::wheel_yaw(WheelYawReport& out) const {
-  if (!config_.filter.wheel_yaw_fusion) {
+  if (!config_.slam.odometry.wheel_yaw.enabled) {
     return false;
   }
   const slam_core::WheelYawFusion& f = dr_.wheel_yaw_fusion();
@@ -560,7 +531,7 @@ bool SlamEstimator::wheel_yaw(WheelYawReport& out) const {
   out.intervals_gated = k.intervals_gated;
   out.windows_used = k.windows_used;
   out.windows_gated = k.windows_gated;
-  out.drift_state = config_.filter.wheel_drift_state;
+  out.drift_state = config_.slam.filter.wheel_drift_state;
   if (out.drift_state) {
     out.state_drift_rad_per_m = ekf_.wheel_drift();
     out.state_drift_std = std::sqrt(std::max(0.0, ekf_.wheel_drift_variance()));
