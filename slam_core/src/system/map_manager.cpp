@@ -17,6 +17,20 @@ void MapManager::forget() {
   merge_target_.fill(-1);
   merge_count_ = 0;
   remap_allowed_ = false;
+  wake();
+}
+
+void MapManager::set_dormant() {
+  dormant_count_ = 0;
+  for (int s = 0; s < hal::kMaxLandmarks; ++s) {
+    dormant_[static_cast<std::size_t>(s)] = ekf_.slot_used(s);
+    dormant_count_ += ekf_.slot_used(s) ? 1 : 0;
+  }
+}
+
+void MapManager::wake() {
+  dormant_.fill(false);
+  dormant_count_ = 0;
 }
 
 int MapManager::slot_of(std::int64_t track) const {
@@ -56,6 +70,10 @@ int MapManager::initialize(std::int64_t track, double u_px, double v_px, int ear
   }
   const auto s = static_cast<std::size_t>(slot);
   owner_[s] = track == kTrackerSlot ? slot : track;
+  if (dormant_[s]) {  // a dormant landmark replaced (a full pool)
+    dormant_[s] = false;
+    --dormant_count_;
+  }
   // The slot may be a recycled one (a full pool): no merge may refer to what it held.
   merge_target_[s] = -1;
   std::replace(merge_target_.begin(), merge_target_.end(), slot, -1);
@@ -72,6 +90,10 @@ void MapManager::remove(int slot) {
   }
   owner_[static_cast<std::size_t>(slot)] = -1;
   merge_target_[static_cast<std::size_t>(slot)] = -1;
+  if (dormant_[static_cast<std::size_t>(slot)]) {
+    dormant_[static_cast<std::size_t>(slot)] = false;
+    --dormant_count_;
+  }
   std::replace(merge_target_.begin(), merge_target_.end(), slot, -1);
 }
 

@@ -25,8 +25,70 @@ void SlamSystem::set_down(hal::TimeNs t_ns) {
   OdometryIncrement carry;
   carry.Q = J * body_cov * J.transpose();
   (void)ekf_.predict(carry);
+  if (image_mode_) {
+    // Where the map is, is not known: its landmarks wait, unsearched, for the Relocalizer.
+    map_.set_dormant();
+    pipeline_->suspend_map();
+  }
   relocalizing_ = true;
   updates_at_set_down_ = ekf_.counters().updates_applied;
+}
+
+bool SlamSystem::relocalize_step() {
+  const frontend::FrameReport& report = pipeline_->report();
+  if (!relocalizer_started_) {
+    if (report.image_check != frontend::ImageCheck::kOk || report.featureless) {
+      return true;
+    }
+    relocalizer_.begin(frame_.image, pipeline_->detector().corners(),
+                       pipeline_->detector().corner_count(), ekf_.camera_pose());
+    relocalizer_started_ = true;
+    relocalizer_cursor_ = 0;
+    return false;
+  }
+  if (relocalizer_cursor_ < hal::kMaxLandmarks) {
+    int added = 0;
+    for (;
+         relocalizer_cursor_ < hal::kMaxLandmarks && added < config_.relocalizer.landmarks_per_step;
+         ++relocalizer_cursor_) {
+      const int s = relocalizer_cursor_;
+      const frontend::LandmarkPatch* patch = pipeline_->patches().get(s);
+      if (map_.dormant(s) && patch != nullptr) {
+        relocalizer_.add_landmark(s, ekf_.landmark(s), *patch);
+        ++added;
+      }
+    }
+    return false;
+  }
+  if (!relocalizer_.search_step()) {
+    return false;
+  }
+  Vector6d pose;
+  if (relocalizer_.found(pose)) {
+    relocate(pose);
+  }
+  return true;
+}
+
+// The pose found: the landmarks mapped since the set-down (made from the wrong pose) go, the
+// dormant ones are searched again.
+void SlamSystem::relocate(const Vector6d& camera_pose) {
+  if (!ekf_.relocate(camera_pose)) {
+    return;
+  }
+  for (int s = 0; s < hal::kMaxLandmarks; ++s) {
+    if (ekf_.slot_used(s) && !map_.dormant(s)) {
+      mapped_.delete_landmark(s);
+      pipeline_->forget(s);
+    }
+  }
+  for (int s = 0; s < hal::kMaxLandmarks; ++s) {
+    if (map_.dormant(s)) {
+      pipeline_->resume(s);
+    }
+  }
+  map_.wake();
+  ++relocalizations_;
 }
 
 bool SlamSystem::pose_lost() const {

@@ -35,7 +35,8 @@ SlamSystem::SlamSystem(const hal::Calibration& calibration, const SlamConfig& co
       jcbb_(frontend::JcbbConfig{.min_inliers = config_.map.features_min_inliers}),
       pipeline_(std::make_unique<frontend::FramePipeline>(config_.frontend)),
       mapped_(ekf_, map_),
-      camera_offset_ns_(hal::from_seconds(calibration.camera.time_offset_s)) {
+      camera_offset_ns_(hal::from_seconds(calibration.camera.time_offset_s)),
+      relocalizer_(ekf_.camera(), config_.relocalizer) {
   ekf_.set_update_step(config_.update_work_step);
   share_wheel_state();
 }
@@ -109,6 +110,7 @@ void SlamSystem::begin_frame(const hal::CameraFrame& frame) {
   frame_ = frame;
   frame_done_ = false;
   record_count_ = 0;
+  relocalizer_started_ = false;
   image_mode_ = !frame.has_features() && frame.has_image();
   if (image_mode_) {
     ++image_frames_;
@@ -127,6 +129,9 @@ bool SlamSystem::step_frame(int& budget) {
   }
   budget = 0;  // one bounded pipeline step per call
   if (pipeline_->step(mapped_)) {
+    return false;
+  }
+  if (map_.dormant_count() > 0 && !relocalize_step()) {
     return false;
   }
   collect_image_records();

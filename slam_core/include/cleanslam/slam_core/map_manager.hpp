@@ -64,6 +64,12 @@ class MapManager {
   void merge_remapped(std::span<const Observation> observed);
   [[nodiscard]] int merge_count() const { return merge_count_; }
   [[nodiscard]] const Merge& merge(int i) const { return merges_[static_cast<std::size_t>(i)]; }
+  // Every landmark becomes dormant: kept, but not where the pose says (the robot was carried)
+  // until the pose is found again against them (wake()).
+  void set_dormant();
+  void wake();
+  [[nodiscard]] bool dormant(int slot) const { return dormant_[static_cast<std::size_t>(slot)]; }
+  [[nodiscard]] int dormant_count() const { return dormant_count_; }
   // The slot maps again the landmark in `earlier()` (merged in later), or -1.
   [[nodiscard]] int earlier(int slot) const {
     return merge_target_[static_cast<std::size_t>(slot)];
@@ -77,6 +83,8 @@ class MapManager {
   std::array<std::int64_t, hal::kMaxLandmarks> owner_{};  // track per slot, -1: free
   std::array<int, hal::kMaxLandmarks> merge_target_{};    // earlier entry of a remapped slot
   bool remap_allowed_ = false;
+  std::array<bool, hal::kMaxLandmarks> dormant_{};
+  int dormant_count_ = 0;
   std::array<Merge, hal::kMaxLandmarks> merges_{};
   int merge_count_ = 0;
 };

@@ -5,6 +5,7 @@
 #include "cleanslam/slam_core/dead_reckoner.hpp"
 #include "cleanslam/slam_core/ekf_config.hpp"
 #include "cleanslam/slam_core/frontend/frame_pipeline.hpp"
+#include "cleanslam/slam_core/relocalizer_config.hpp"
 
 namespace cleanslam::slam_core {
 
@@ -40,6 +41,8 @@ struct SlamConfig {
   DeadReckoningConfig odometry;
   frontend::FramePipelineConfig frontend;
   MapConfig map;
+  // Image frames after a relocalizing set-down: the map found again by appearance and geometry.
+  RelocalizerConfig relocalizer;
   // The gyro's scale error and bias walk are at least the calibration's (hal::GyroCalibration).
   bool gyro_errors_from_calibration = false;
   // Work of one bounded part of the EKF's batch update (Ekf::set_update_step); 0: unbounded.

@@ -15,6 +15,7 @@
 #include "cleanslam/slam_core/frontend/jcbb.hpp"
 #include "cleanslam/slam_core/map_manager.hpp"
 #include "cleanslam/slam_core/mapped_estimator.hpp"
+#include "cleanslam/slam_core/relocalizer.hpp"
 #include "cleanslam/slam_core/slam_config.hpp"
 
 namespace cleanslam::slam_core {
@@ -73,6 +74,8 @@ class SlamSystem {
   [[nodiscard]] const MapManager& map() const { return map_; }
   [[nodiscard]] const frontend::FramePipeline& pipeline() const { return *pipeline_; }
   [[nodiscard]] std::uint64_t image_frames() const { return image_frames_; }
+  // Image frames: times the pose was found again against a dormant map (relocalize.cpp).
+  [[nodiscard]] std::uint64_t relocalizations() const { return relocalizations_; }
   [[nodiscard]] const SlamConfig& config() const { return config_; }
 
  private:
@@ -87,6 +90,10 @@ class SlamSystem {
   void initialize_features();
   // Image path (image_frame.cpp).
   void collect_image_records();
+  // Image path after a relocalizing set-down (relocalize.cpp): one bounded part of the search
+  // for the dormant map in this frame; true when done.
+  bool relocalize_step();
+  void relocate(const Vector6d& camera_pose);
 
   hal::Calibration calibration_;
   SlamConfig config_;
@@ -115,6 +122,10 @@ class SlamSystem {
   std::uint64_t image_frames_ = 0;
   bool relocalizing_ = false;
   std::uint64_t updates_at_set_down_ = 0;
+  Relocalizer relocalizer_;
+  bool relocalizer_started_ = false;
+  int relocalizer_cursor_ = 0;
+  std::uint64_t relocalizations_ = 0;
 
   // Per-frame workspaces of the features path.
   static constexpr int kMaxObs = hal::kMaxObservationsPerFrame;
