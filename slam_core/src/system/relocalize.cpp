@@ -92,7 +92,9 @@ void SlamSystem::relocate(const Vector6d& camera_pose) {
 }
 
 bool SlamSystem::pose_lost() const {
-  return relocalizing_ && ekf_.counters().updates_applied == updates_at_set_down_;
+  // Image frames: updates against landmarks made since the set-down do not find the map.
+  return relocalizing_ &&
+         (map_.dormant_count() > 0 || ekf_.counters().updates_applied == updates_at_set_down_);
 }
 
 }  // namespace cleanslam::slam_core

@@ -21,8 +21,8 @@ struct RelocalizerConfig {
   int min_inliers = 6;
   int min_margin = 2;
   // Bounded work per step: landmarks matched, candidate rows of the pose search.
-  int landmarks_per_step = 8;
-  int rows_per_step = 4;
+  int landmarks_per_step = 4;
+  int rows_per_step = 2;
 };
 
 }  // namespace cleanslam::slam_core

@@ -40,9 +40,10 @@ class SlamSystem {
   // A new map; the world frame is the body frame now.
   void reset();
   // Set down after a lift: a new map, or (MapConfig::on_set_down kRelocalize) the map kept and
-  // the carry folded in as an unknown planar displacement (relocalize.cpp).
+  // the carry folded in as an unknown planar displacement (relocalize.cpp). After image frames
+  // the map goes dormant until the Relocalizer finds it in a frame.
   void set_down(hal::TimeNs t_ns);
-  // Relocalizing and no visual update since the set-down.
+  // Relocalizing and no visual update since the set-down (image frames: the map not found again).
   [[nodiscard]] bool pose_lost() const;
 
   void add_gyro(const hal::GyroSample& s) { dr_.add_gyro(s); }
