@@ -7,8 +7,6 @@ namespace cleanslam::slam_core {
 
 namespace {
 constexpr std::array<double, 3> kScales{0.75, 1.0, 1.33};
-constexpr double kDistinctYawRad = 0.1;
-constexpr double kDistinctM = 0.3;
 constexpr double kMinPairM = 0.3;
 constexpr double kMaxRangeM = 15.0;
 }  // namespace
@@ -27,6 +25,7 @@ void Relocalizer::begin(const hal::GrayImageView& image, const frontend::Corner*
   row_ = 0;
   best_score_ = 0;
   second_score_ = 0;
+  best_inliers_.fill(false);
 }
 
 float Relocalizer::ncc_at(const frontend::PatchTemplate& tmpl, double u, double v) const {
@@ -166,6 +165,14 @@ int Relocalizer::score(double x, double y, double yaw) {
   return inliers;
 }
 
+int Relocalizer::shared_with_best() const {
+  int n = 0;
+  for (std::size_t s = 0; s < counted_.size(); ++s) {
+    n += counted_[s] && best_inliers_[s] ? 1 : 0;
+  }
+  return n;
+}
+
 bool Relocalizer::search_step() {
   const int end = std::min(candidate_count_, row_ + std::max(1, config_.rows_per_step));
   for (; row_ < end; ++row_) {
@@ -190,15 +197,19 @@ bool Relocalizer::search_step() {
       const Eigen::Rotation2D<double> R(yaw);
       const Eigen::Vector2d xy = 0.5 * ((a.landmark + b.landmark).head<2>() - R * (a.q + b.q));
       const int s = score(xy.x(), xy.y(), yaw);
-      const bool same = std::abs(wrap_angle(yaw - best_(5))) < kDistinctYawRad &&
-                        std::hypot(xy.x() - best_(0), xy.y() - best_(1)) < kDistinctM;
+      if (s <= second_score_) {
+        continue;
+      }
+      // Another pose, not the best one seen again, when most of its inliers are other landmarks.
+      const bool other = 2 * shared_with_best() < std::min(s, best_score_);
       if (s > best_score_) {
-        if (!same) {
+        if (other) {
           second_score_ = best_score_;
         }
         best_score_ = s;
+        best_inliers_ = counted_;
         best_ << xy.x(), xy.y(), pose_(2), pose_(3), pose_(4), yaw;
-      } else if (!same && s > second_score_) {
+      } else if (other) {
         second_score_ = s;
       }
     }

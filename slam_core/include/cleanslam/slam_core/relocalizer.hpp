@@ -54,6 +54,8 @@ class Relocalizer {
   bool level_position(double u_px, double v_px, const Eigen::Vector3d& landmark,
                       Eigen::Vector2d& q) const;
   int score(double x, double y, double yaw);
+  // Landmarks the last hypothesis shares with the best one.
+  [[nodiscard]] int shared_with_best() const;
   void consider(const Candidate& c);
 
   const CameraModel& camera_;
@@ -65,7 +67,8 @@ class Relocalizer {
   Eigen::Matrix3d R_rp_ = Eigen::Matrix3d::Identity();  // roll and pitch of the camera
   std::array<Candidate, kMaxCandidates> candidates_{};
   int candidate_count_ = 0;
-  std::array<bool, hal::kMaxLandmarks> counted_{};
+  std::array<bool, hal::kMaxLandmarks> counted_{};  // the last hypothesis's inliers
+  std::array<bool, hal::kMaxLandmarks> best_inliers_{};
   frontend::PatchTemplate template_;
   int row_ = 0;
   int best_score_ = 0;

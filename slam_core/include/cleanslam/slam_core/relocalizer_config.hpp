@@ -17,7 +17,7 @@ struct RelocalizerConfig {
   // A candidate is an inlier of a pose when its landmark projects this close to its corner.
   double inlier_px = 5.0;
   // A pose is taken with at least this many landmarks as inliers, and this many more than the
-  // best pose that differs from it.
+  // best pose whose inliers are mostly other landmarks (an ambiguous view).
   int min_inliers = 6;
   int min_margin = 2;
   // Bounded work per step: landmarks matched, candidate rows of the pose search.
