@@ -6,11 +6,13 @@
 
 #include "cleanslam/drivers/robot_drivers.hpp"
 #include "cleanslam/firmware/clocks.hpp"
+#include "cleanslam/firmware/health_report.hpp"
 #include "cleanslam/firmware/recorder.hpp"
 #include "cleanslam/firmware/replay_check.hpp"
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/sinks.hpp"
 #include "cleanslam/firmware/status_indicator.hpp"
+#include "cleanslam/firmware/summary_words.hpp"
 #include "cleanslam/firmware/systemd_notifier.hpp"
 #include "cleanslam/sim_hal/dataset_source.hpp"
 #include "cleanslam/sim_hal/log_source.hpp"
@@ -97,30 +99,6 @@ void print_messages(const ConfigResult& r) {
     std::fprintf(stderr, "cleanslam: error: %s\n", e.c_str());
   }
 }
-
-class StderrHealth final : public HealthObserver {
- public:
-  void health_changed(std::int64_t t_ns, std::uint32_t before, std::uint32_t after) override {
-    static constexpr std::array<std::pair<std::uint32_t, const char*>, 6> kNames{{
-        {hal::kGyroSilent, "gyro silent (heading from encoders)"},
-        {hal::kEncodersSilent, "encoders silent (no prediction)"},
-        {hal::kCameraSilent, "camera silent (dead reckoning only)"},
-        {hal::kStandingStill, "standing still"},
-        {hal::kLifted, "lifted"},
-        {hal::kPoseLost, "pose lost"},
-    }};
-    for (const auto& [bit, name] : kNames) {
-      if (bit == hal::kStandingStill) {
-        continue;  // too frequent to report
-      }
-      if ((after & bit) != 0 && (before & bit) == 0) {
-        std::fprintf(stderr, "cleanslam: t=%.3f s: %s\n", hal::to_seconds(t_ns), name);
-      } else if ((after & bit) == 0 && (before & bit) != 0) {
-        std::fprintf(stderr, "cleanslam: t=%.3f s: recovered: %s\n", hal::to_seconds(t_ns), name);
-      }
-    }
-  }
-};
 
 void report_log_defects(const sim_hal::LogReader& reader, Loop* loop) {
   if (reader.total_defects() == 0) {
@@ -326,7 +304,7 @@ int run_normal(const Args& args) {
   if (notifier.active()) {
     loop.set_notifier(&notifier);
   }
-  StderrHealth health;
+  HealthReport health("cleanslam", stderr);
   loop.set_health_observer(&health);
   StopSignals signals;
   RunEnd end = RunEnd::kStopped;
@@ -372,6 +350,13 @@ void print_summary(const Loop& loop, std::FILE* out) {
     }
   }
   std::fputs(separator[0] == '\0' ? " none\n" : "\n", out);
+  for (std::size_t i = 0; i < s.records_by_status.size(); ++i) {
+    if (s.records_by_status[i] > 0) {
+      const auto status = static_cast<hal::log::UpdateStatus>(i);
+      std::fprintf(out, "cleanslam:   %-14s %llu %s\n", to_string(status),
+                   static_cast<unsigned long long>(s.records_by_status[i]), explain(status));
+    }
+  }
   const MapCounters m = loop.estimator().map_counters();
   std::fprintf(
       out,
@@ -389,6 +374,10 @@ void print_summary(const Loop& loop, std::FILE* out) {
                    static_cast<unsigned long long>(e.count));
     }
     std::fputc('\n', out);
+    for (int i = 0; i < r.count; ++i) {
+      const ObservationRejection& e = r.by_reason[static_cast<std::size_t>(i)];
+      std::fprintf(out, "cleanslam:   %-14s %s\n", e.reason, explain_observation_reason(e.reason));
+    }
   }
   WheelYawReport w;
   if (loop.estimator().wheel_yaw(w)) {
@@ -412,8 +401,9 @@ void print_summary(const Loop& loop, std::FILE* out) {
   }
   for (std::size_t i = 0; i < kRejectCount; ++i) {
     if (s.rejects.n[i] > 0) {
-      std::fprintf(out, "cleanslam: rejected %s: %llu\n", to_string(static_cast<Reject>(i)),
-                   static_cast<unsigned long long>(s.rejects.n[i]));
+      std::fprintf(out, "cleanslam: rejected %s: %llu %s\n", to_string(static_cast<Reject>(i)),
+                   static_cast<unsigned long long>(s.rejects.n[i]),
+                   explain(static_cast<Reject>(i)));
     }
   }
 }
