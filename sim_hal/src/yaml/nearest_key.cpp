@@ -46,8 +46,7 @@ std::string unknown_key_hint(std::string_view key, const std::vector<std::string
     return "did you mean " + dotted + near + rest + "?";
   }
   if (valid.empty()) {
-    return dotted.empty() ? std::string("no keys are valid here")
-                          : prefix + " takes no keys";
+    return dotted.empty() ? std::string("no keys are valid here") : prefix + " takes no keys";
   }
   std::vector<std::string> sorted = valid;
   std::sort(sorted.begin(), sorted.end());
