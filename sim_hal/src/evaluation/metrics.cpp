@@ -244,8 +244,7 @@ std::string to_json(const Metrics& m, Alignment alignment) {
       m.nees_not_positive_definite,
       m.nees_count > 0 ? std::to_string(m.nees_ratio).c_str() : "null",
       m.nees_count > 0 ? std::to_string(m.nees_ratio_low).c_str() : "null",
-      m.nees_count > 0 ? std::to_string(m.nees_ratio_high).c_str() : "null",
-      verdict);
+      m.nees_count > 0 ? std::to_string(m.nees_ratio_high).c_str() : "null", verdict);
   return buf;
 }
 
