@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstring>
+#include <filesystem>
 #include <optional>
 
 #include "cleanslam/drivers/robot_drivers.hpp"
@@ -89,6 +90,23 @@ std::optional<Args> parse_args(int argc, char** argv) {
     }
   }
   return a;
+}
+
+constexpr const char* kNotTheRobot =
+    "cleanslam: no arguments, and this machine has neither the CAN interface %s nor the camera "
+    "%s: not the robot.\n"
+    "On a PC, run it on a dataset folder or a recorded log:\n"
+    "  cleanslam-sim default-room /tmp/ds && cleanslam --dataset /tmp/ds --tum /tmp/pose.tum\n"
+    "  cleanslam --log LOG\n"
+    "(cleanslam-replay DATASET --out DIR writes every output; tools/demo.sh does it all.)\n"
+    "To wait for the robot's devices anyway: cleanslam --set source.kind=drivers. --help for "
+    "more.\n";
+
+// The robot's CAN interface or camera exists here.
+bool robot_devices_present(const FirmwareConfig& c) {
+  std::error_code ec;
+  return std::filesystem::exists("/sys/class/net/" + c.source.can_interface, ec) ||
+         std::filesystem::exists(c.source.camera_device, ec);
 }
 
 void print_messages(const ConfigResult& r) {
@@ -231,6 +249,11 @@ int run_normal(const Args& args) {
       break;
     }
     case SourceSettings::Kind::kDrivers: {
+      if (args.config_path.empty() && args.sets.empty() && !robot_devices_present(config)) {
+        std::fprintf(stderr, kNotTheRobot, config.source.can_interface.c_str(),
+                     config.source.camera_device.c_str());
+        return 2;
+      }
       drivers::RobotDriversConfig dc;
       dc.can.interface = config.source.can_interface;
       dc.camera.device = config.source.camera_device;
