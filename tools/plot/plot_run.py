@@ -303,6 +303,10 @@ def main():
                     label=f"{plural(len(vague), 'landmark')} with σ > {args.max_sigma:g} m (no ellipse)")
         if outside:
             ax.plot([], [], " ", label=f"{plural(outside, 'landmark')} outside the plotted area")
+        print(f"landmarks: {plural(len(good), 'landmark')} with ellipses, "
+              f"{plural(len(vague), 'landmark')} with σ > {args.max_sigma:g} m (no ellipse), "
+              f"{outside} outside the plotted area")
+    print(f"axes: x {lo[0]:.2f} {hi[0]:.2f} y {lo[1]:.2f} {hi[1]:.2f} (m)")
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
     ax.set_aspect("equal", adjustable="box")

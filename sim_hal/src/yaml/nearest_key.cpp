@@ -24,18 +24,22 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 std::string nearest_key(std::string_view key, const std::vector<std::string>& valid) {
   std::string best;
   std::size_t best_distance = 0;
+  bool best_extends = false;
   for (const std::string& v : valid) {
     const std::size_t d = edit_distance(key, v);
-    if (best.empty() || d < best_distance) {
+    // A key that only lacks its unit or suffix ("rate" for "rate_hz") is near however long.
+    const bool extends = key.size() >= 3 && v.rfind(key, 0) == 0;
+    const std::size_t longer = std::max(key.size(), v.size());
+    if (!extends && d > std::max<std::size_t>(2, longer / 2)) {
+      continue;
+    }
+    if (best.empty() || d < best_distance || (d == best_distance && extends && !best_extends)) {
       best = v;
       best_distance = d;
+      best_extends = extends;
     }
   }
-  if (best.empty()) {
-    return best;
-  }
-  const std::size_t longer = std::max(key.size(), best.size());
-  return best_distance <= std::max<std::size_t>(2, longer / 3) ? best : std::string();
+  return best;
 }
 
 std::string unknown_key_hint(std::string_view key, const std::vector<std::string>& valid,

@@ -396,8 +396,9 @@ void MappingReader::report_unknown_keys() {
       const std::string origin = e.key_location.file_name();
       const bool from_set = origin.rfind(kSet, 0) == 0;
       const std::string full = from_set ? origin.substr(kSet.size()) : path(e.key);
+      const std::string here = path(e.key) + ".";
       const std::string rest =
-          full.size() > path(e.key).size() ? full.substr(path(e.key).size()) : std::string();
+          full.rfind(here, 0) == 0 ? full.substr(here.size() - 1) : std::string();
       const std::string hint = unknown_key_hint(e.key, used_, prefix_, rest);
       if (from_set) {
         diagnostics_->errors.push_back(origin + ": unknown key " + path(e.key) + "; " + hint);

@@ -10,8 +10,9 @@ namespace cleanslam::sim_hal {
 // Levenshtein distance: insertions, deletions and substitutions of one character each cost 1.
 std::size_t edit_distance(std::string_view a, std::string_view b);
 
-// The valid key nearest to a misspelt one, "" when `valid` is empty or none is close (more than
-// a third of the longer name's characters, and more than 2, would have to change).
+// The valid key nearest to a misspelt one: the fewest edits among those that need at most half
+// the longer name's characters (at least 2) changed, or that extend the key ("rate" -> "rate_hz");
+// "" when none is that close.
 std::string nearest_key(std::string_view key, const std::vector<std::string>& valid);
 
 // The sentence an unknown-key message ends with: "did you mean filter.eps_ct_m?" when a valid key
