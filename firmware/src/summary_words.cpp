@@ -16,8 +16,9 @@ const char* explain(hal::log::UpdateStatus s) {
     case S::kGated:
       return "observations refused as outliers by the innovation gate or JCBB";
     case S::kRejected:
-      return "observations not usable: non-finite, outside the image, covariance not positive "
-             "definite, or the map full";
+      return "observations not used: with images mostly landmarks the tracker searched for and "
+             "did not find (occluded, changed appearance); else outside the image, non-finite, "
+             "covariance not positive definite, or the map full";
     case S::kSkipped:
       return "frames without an update: too few inliers, or the robot standing still";
     case S::kNoSlot:
