@@ -45,7 +45,10 @@ constexpr const char* kUsage =
     "--force        replace the outputs of an earlier run in DIR\n"
     "--accept-gaps  exit 0 even when a sensor falls silent for longer than its timeout\n"
     "               (loop.gyro_timeout_s, encoder_timeout_s, camera_timeout_s) or ends early\n"
-    "Progress goes to stderr: a bar on a terminal, else a line every 10 %.\n";
+    "               (a feature-level dataset's camera silences are the scene's: only noted)\n"
+    "Progress and the firmware's health report go to stderr: a bar on a terminal, else a line\n"
+    "every 10 %. Exit status: 0 done, 1 a sensor gap (outputs written), 2 bad arguments,\n"
+    "configuration or dataset, 130 stopped by a signal.\n";
 
 constexpr std::array<const char*, 7> kOutputs{
     "trajectory.tum", "trajectory.tum.cov", "dead_reckoning.tum", "dead_reckoning_published.tum",
