@@ -75,8 +75,8 @@ step "setup"
 tools/setup.sh --host-only
 
 step "build (host-release: the six programs of the README's tools table)"
-# The first build compiles the project's libraries and the six programs (91 files, about 2.5
-# CPU-minutes); later ones only what changed. Ninja's progress lines are filtered to one every 10 %.
+# The first build compiles the project's libraries and the six programs (README.md says how long
+# it takes); later ones only what changed. Ninja's progress lines are filtered to one every 10 %.
 start=$(date +%s)
 mkdir -p build
 cmake --preset host-release >build/demo-configure.log 2>&1 || {
