@@ -3,6 +3,8 @@
 # libraries, cross compilers, qemu, and the arm64 multiarch libraries. Idempotent: quiet when
 # everything is there; loud, and non-zero, when something cannot be installed.
 #   tools/setup.sh              everything (tools/test.sh)
+#   tools/setup.sh --host-tests what the host presets' tests need, no cross compilers or qemu
+#                               (tools/test.sh host-release host-asan)
 #   tools/setup.sh --host-only  what a host build and the demo need (tools/demo.sh)
 #   tools/setup.sh --fuzz       that, and clang with libFuzzer (tools/fuzz.sh)
 set -euo pipefail
@@ -11,10 +13,12 @@ demo_packages=(
   cmake ninja-build pkg-config g++ file python3 python3-numpy python3-matplotlib
   libeigen3-dev libyaml-dev libpng-dev libgtest-dev libbenchmark-dev libgpiod-dev
 )
-host_packages=(
+host_test_packages=(
   "${demo_packages[@]}" gpiod libopencv-dev python3-opencv python3-yaml valgrind clang-format
   can-utils v4l-utils
-  g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user qemu-user-static
+)
+host_packages=(
+  "${host_test_packages[@]}" g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user qemu-user-static
   qemu-system-arm busybox-static cpio kmod
 )
 arm64_packages=(libgtest-dev:arm64 libyaml-dev:arm64 libpng-dev:arm64 libgpiod-dev:arm64)
@@ -24,8 +28,9 @@ fuzz=0
 case "${1:-}" in
   "") ;;
   --host-only) host_only=1 ;;
+  --host-tests) host_only=1 host_packages=("${host_test_packages[@]}") ;;
   --fuzz) host_only=1 fuzz=1 ;;
-  *) echo "usage: tools/setup.sh [--host-only | --fuzz]" >&2; exit 2 ;;
+  *) echo "usage: tools/setup.sh [--host-tests | --host-only | --fuzz]" >&2; exit 2 ;;
 esac
 
 say() { printf 'setup: %s\n' "$*" >&2; }
@@ -51,7 +56,7 @@ missing() {
 }
 
 if [ "$host_only" -eq 1 ]; then
-  host_packages=("${demo_packages[@]}")
+  [ "${1:-}" = --host-tests ] || host_packages=("${demo_packages[@]}")
   arm64_packages=()
   if [ "$fuzz" -eq 1 ]; then
     host_packages+=("${fuzz_packages[@]}")

@@ -11,7 +11,12 @@ root=$(pwd)
 all_presets=(host-release host-asan aarch64-release armhf-release)
 if [ $# -gt 0 ]; then presets=("$@"); else presets=("${all_presets[@]}"); fi
 
-if ! tools/setup.sh; then
+# Only host presets: no cross compilers, qemu or arm64 libraries.
+setup_args=(--host-tests)
+for p in "${presets[@]}"; do
+  case $p in host-release | host-debug | host-asan) ;; *) setup_args=() ;; esac
+done
+if ! tools/setup.sh "${setup_args[@]}"; then
   echo "test: setup failed (see above)" >&2
   exit 1
 fi

@@ -177,6 +177,12 @@ readers::Result<Metrics> evaluate(const std::vector<readers::GroundTruthPose>& g
   if (m.nees_count > 0) {
     m.nees_mean = nees_sum / m.nees_count;
     m.nees_fraction_in_95 = static_cast<double>(nees_in) / m.nees_count;
+    m.nees_ratio = m.nees_mean / 3.0;
+    const double k = 3.0 * m.nees_count;
+    const double c = 1.0 - 2.0 / (9.0 * k);
+    const double w = 1.959964 * std::sqrt(2.0 / (9.0 * k));
+    m.nees_ratio_low = std::pow(std::max(0.0, c - w), 3);
+    m.nees_ratio_high = std::pow(c + w, 3);
   }
 
   // RPE over 1 m of ground-truth travel.
@@ -206,8 +212,22 @@ readers::Result<Metrics> evaluate(const std::vector<readers::GroundTruthPose>& g
   return m;
 }
 
+const char* nees_verdict(const Metrics& m) {
+  if (m.nees_count == 0) {
+    return "";
+  }
+  if (m.nees_ratio > m.nees_ratio_high) {
+    return "overconfident";
+  }
+  return m.nees_ratio < m.nees_ratio_low ? "conservative" : "consistent";
+}
+
 std::string to_json(const Metrics& m, Alignment alignment) {
-  char buf[1024];
+  char verdict[32] = "null";
+  if (m.nees_count > 0) {
+    std::snprintf(verdict, sizeof(verdict), "\"%s\"", nees_verdict(m));
+  }
+  char buf[2048];
   std::snprintf(
       buf, sizeof(buf),
       "{\"alignment\": \"%s\", \"poses_evaluated\": %d, \"poses_outside_groundtruth\": %d, "
@@ -215,13 +235,17 @@ std::string to_json(const Metrics& m, Alignment alignment) {
       "\"final_error_m\": %.6f, \"path_length_m\": %.4f, \"rpe_pairs\": %d, "
       "\"rpe_translation_per_m\": %.6f, \"rpe_rotation_deg_per_m\": %.5f, "
       "\"nees_count\": %d, \"nees_mean\": %s, \"nees_fraction_in_95\": %s, "
-      "\"nees_not_positive_definite\": %d}",
+      "\"nees_not_positive_definite\": %d, \"nees_ratio\": %s, \"nees_ratio_low\": %s, "
+      "\"nees_ratio_high\": %s, \"nees_verdict\": %s}",
       name_of(alignment), m.poses_evaluated, m.poses_outside_groundtruth, m.ate_rmse_m, m.ate_max_m,
       m.orientation_rmse_deg, m.final_error_m, m.path_length_m, m.rpe_pairs,
       m.rpe_translation_per_m, m.rpe_rotation_deg_per_m, m.nees_count,
       m.nees_count > 0 ? std::to_string(m.nees_mean).c_str() : "null",
       m.nees_count > 0 ? std::to_string(m.nees_fraction_in_95).c_str() : "null",
-      m.nees_not_positive_definite);
+      m.nees_not_positive_definite,
+      m.nees_count > 0 ? std::to_string(m.nees_ratio).c_str() : "null",
+      m.nees_count > 0 ? std::to_string(m.nees_ratio_low).c_str() : "null",
+      m.nees_count > 0 ? std::to_string(m.nees_ratio_high).c_str() : "null", verdict);
   return buf;
 }
 
@@ -243,9 +267,11 @@ std::string to_text(const Metrics& m, Alignment alignment) {
   std::string out(buf, static_cast<std::size_t>(std::max(0, len)));
   if (m.nees_count > 0) {
     std::snprintf(buf, sizeof(buf),
-                  "position NEES         mean %.3f (3 if consistent), %.1f %% in the 95 %% bounds "
-                  "(%d poses)\n",
-                  m.nees_mean, 100.0 * m.nees_fraction_in_95, m.nees_count);
+                  "position NEES         mean %.3f = %.2f x its consistent value 3 (95 %% band "
+                  "%.2f-%.2f for %d independent poses): %s; %.1f %% of poses inside their own "
+                  "95 %% bounds\n",
+                  m.nees_mean, m.nees_ratio, m.nees_ratio_low, m.nees_ratio_high, m.nees_count,
+                  nees_verdict(m), 100.0 * m.nees_fraction_in_95);
   } else {
     std::snprintf(buf, sizeof(buf), "position NEES         no covariances\n");
   }

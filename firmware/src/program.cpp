@@ -2,15 +2,18 @@
 
 #include <array>
 #include <cstring>
+#include <filesystem>
 #include <optional>
 
 #include "cleanslam/drivers/robot_drivers.hpp"
 #include "cleanslam/firmware/clocks.hpp"
+#include "cleanslam/firmware/health_report.hpp"
 #include "cleanslam/firmware/recorder.hpp"
 #include "cleanslam/firmware/replay_check.hpp"
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/sinks.hpp"
 #include "cleanslam/firmware/status_indicator.hpp"
+#include "cleanslam/firmware/summary_words.hpp"
 #include "cleanslam/firmware/systemd_notifier.hpp"
 #include "cleanslam/readers/dataset_source.hpp"
 #include "cleanslam/readers/log_source.hpp"
@@ -94,6 +97,23 @@ std::optional<Args> parse_args(int argc, char** argv) {
   return a;
 }
 
+constexpr const char* kNotTheRobot =
+    "cleanslam: no arguments, and this machine has neither the CAN interface %s nor the camera "
+    "%s: not the robot.\n"
+    "On a PC, run it on a dataset folder or a recorded log:\n"
+    "  cleanslam-sim default-room /tmp/ds && cleanslam --dataset /tmp/ds --tum /tmp/pose.tum\n"
+    "  cleanslam --log LOG\n"
+    "(cleanslam-replay DATASET --out DIR writes every output; tools/demo.sh does it all.)\n"
+    "To wait for the robot's devices anyway: cleanslam --set source.kind=drivers. --help for "
+    "more.\n";
+
+// The robot's CAN interface or camera exists here.
+bool robot_devices_present(const FirmwareConfig& c) {
+  std::error_code ec;
+  return std::filesystem::exists("/sys/class/net/" + c.source.can_interface, ec) ||
+         std::filesystem::exists(c.source.camera_device, ec);
+}
+
 void print_messages(const ConfigResult& r) {
   for (const auto& w : r.warnings) {
     std::fprintf(stderr, "cleanslam: warning: %s\n", w.c_str());
@@ -102,30 +122,6 @@ void print_messages(const ConfigResult& r) {
     std::fprintf(stderr, "cleanslam: error: %s\n", e.c_str());
   }
 }
-
-class StderrHealth final : public HealthObserver {
- public:
-  void health_changed(std::int64_t t_ns, std::uint32_t before, std::uint32_t after) override {
-    static constexpr std::array<std::pair<std::uint32_t, const char*>, 6> kNames{{
-        {hal::kGyroSilent, "gyro silent (heading from encoders)"},
-        {hal::kEncodersSilent, "encoders silent (no prediction)"},
-        {hal::kCameraSilent, "camera silent (dead reckoning only)"},
-        {hal::kStandingStill, "standing still"},
-        {hal::kLifted, "lifted"},
-        {hal::kPoseLost, "pose lost"},
-    }};
-    for (const auto& [bit, name] : kNames) {
-      if (bit == hal::kStandingStill) {
-        continue;  // too frequent to report
-      }
-      if ((after & bit) != 0 && (before & bit) == 0) {
-        std::fprintf(stderr, "cleanslam: t=%.3f s: %s\n", hal::to_seconds(t_ns), name);
-      } else if ((after & bit) == 0 && (before & bit) != 0) {
-        std::fprintf(stderr, "cleanslam: t=%.3f s: recovered: %s\n", hal::to_seconds(t_ns), name);
-      }
-    }
-  }
-};
 
 void report_log_defects(const readers::LogReader& reader, Loop* loop) {
   if (reader.total_defects() == 0) {
@@ -258,6 +254,11 @@ int run_normal(const Args& args) {
       break;
     }
     case SourceSettings::Kind::kDrivers: {
+      if (args.config_path.empty() && args.sets.empty() && !robot_devices_present(config)) {
+        std::fprintf(stderr, kNotTheRobot, config.source.can_interface.c_str(),
+                     config.source.camera_device.c_str());
+        return 2;
+      }
       drivers::RobotDriversConfig dc;
       dc.can.interface = config.source.can_interface;
       dc.camera.device = config.source.camera_device;
@@ -331,7 +332,7 @@ int run_normal(const Args& args) {
   if (notifier.active()) {
     loop.set_notifier(&notifier);
   }
-  StderrHealth health;
+  HealthReport health("cleanslam", stderr);
   loop.set_health_observer(&health);
   StopSignals signals;
   RunEnd end = RunEnd::kStopped;
@@ -377,6 +378,13 @@ void print_summary(const Loop& loop, std::FILE* out) {
     }
   }
   std::fputs(separator[0] == '\0' ? " none\n" : "\n", out);
+  for (std::size_t i = 0; i < s.records_by_status.size(); ++i) {
+    if (s.records_by_status[i] > 0) {
+      const auto status = static_cast<hal::log::UpdateStatus>(i);
+      std::fprintf(out, "cleanslam:   %-14s %llu %s\n", to_string(status),
+                   static_cast<unsigned long long>(s.records_by_status[i]), explain(status));
+    }
+  }
   const MapCounters m = loop.estimator().map_counters();
   std::fprintf(
       out,
@@ -394,6 +402,10 @@ void print_summary(const Loop& loop, std::FILE* out) {
                    static_cast<unsigned long long>(e.count));
     }
     std::fputc('\n', out);
+    for (int i = 0; i < r.count; ++i) {
+      const ObservationRejection& e = r.by_reason[static_cast<std::size_t>(i)];
+      std::fprintf(out, "cleanslam:   %-14s %s\n", e.reason, explain_observation_reason(e.reason));
+    }
   }
   WheelYawReport w;
   if (loop.estimator().wheel_yaw(w)) {
@@ -417,8 +429,9 @@ void print_summary(const Loop& loop, std::FILE* out) {
   }
   for (std::size_t i = 0; i < kRejectCount; ++i) {
     if (s.rejects.n[i] > 0) {
-      std::fprintf(out, "cleanslam: rejected %s: %llu\n", to_string(static_cast<Reject>(i)),
-                   static_cast<unsigned long long>(s.rejects.n[i]));
+      std::fprintf(out, "cleanslam: rejected %s: %llu %s\n", to_string(static_cast<Reject>(i)),
+                   static_cast<unsigned long long>(s.rejects.n[i]),
+                   explain(static_cast<Reject>(i)));
     }
   }
 }

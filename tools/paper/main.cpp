@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cleanslam/paper_models/multi_hypothesis_model.hpp"
+#include "cleanslam/tools/output_paths.hpp"
 #include "figures.hpp"
 #include "plot.hpp"
 #include "table.hpp"
@@ -20,13 +21,14 @@ namespace paper = cleanslam::tools::paper;
 constexpr int kUsageError = 2;
 
 constexpr const char* kUsage =
-    "usage: cleanslam-paper FIGURE [options] [--plot FILE.png]\n"
+    "usage: cleanslam-paper FIGURE [options] [--plot FILE.png [--force]]\n"
     "  fig10 --motion forward|lateral [--hypotheses N]   one-step error of the four models\n"
     "  fig8                                              RMS error over eps_ct x depth error\n"
     "  fig9 [--runs N] [--seed S]                        Monte Carlo RMS error over eps_ct\n"
     "  fig7                                              true and estimated landmarks, 1-sigma\n"
     "CSV goes to stdout (units: cm); --plot also writes FILE.png (and FILE.png.csv) with\n"
-    "plot_paper.py, run by $CLEANSLAM_PYTHON (default /usr/bin/python3) with matplotlib.\n";
+    "plot_paper.py, run by $CLEANSLAM_PYTHON (default /usr/bin/python3) with matplotlib;\n"
+    "their folder is created, and existing files are replaced only with --force.\n";
 
 int usage_error(const std::string& message) {
   std::cerr << "cleanslam-paper: " << message << "\n" << kUsage;
@@ -62,6 +64,7 @@ int main(int argc, char** argv) {
   paper::Fig9Options fig9;
   bool motion_given = false;
   std::string plot_file;
+  bool force = false;
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string option(args[i]);
     const auto value = [&]() -> std::optional<std::string_view> {
@@ -78,7 +81,9 @@ int main(int argc, char** argv) {
       }
       return false;
     };
-    if (option == "--plot") {
+    if (option == "--force") {
+      force = true;
+    } else if (option == "--plot") {
       const auto v = value();
       if (!v || v->empty()) {
         return usage_error("--plot needs a FILE.png");
@@ -127,6 +132,15 @@ int main(int argc, char** argv) {
   }
   if (figure == "fig10" && !motion_given) {
     return usage_error("fig10 needs --motion forward|lateral");
+  }
+
+  if (!plot_file.empty()) {
+    for (const std::string& f : {plot_file, plot_file + ".csv"}) {
+      if (const auto s = cleanslam::tools::prepare_output_file(f, force, {}); !s) {
+        std::cerr << "cleanslam-paper: " << s.error() << "\n";
+        return 1;
+      }
+    }
   }
 
   paper::Table table;

@@ -1,10 +1,11 @@
-// cleanslam-replay DATASET --out DIR [--config FILE] [--set key=value ...]
-// Runs the firmware's own loop on a dataset (readers' DatasetSource), as fast as it can, on a
-// virtual clock: deterministic. Writes DIR/trajectory.tum (+ .cov), dead_reckoning.tum,
-// landmarks.csv, diagnostics.csv, fusion.csv.
+// cleanslam-replay DATASET --out DIR [--force] [--accept-gaps] [--config FILE] [--set key=value]
+// Runs the firmware's own loop on a dataset through the readers library, as fast as it can, on a virtual
+// clock: deterministic. Writes DIR/trajectory.tum (+ .cov), dead_reckoning.tum,
+// dead_reckoning_published.tum, landmarks.csv, diagnostics.csv, fusion.csv.
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -12,57 +13,141 @@
 
 #include "cleanslam/firmware/clocks.hpp"
 #include "cleanslam/firmware/config.hpp"
+#include "cleanslam/firmware/health_report.hpp"
 #include "cleanslam/firmware/loop.hpp"
 #include "cleanslam/firmware/program.hpp"
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/sinks.hpp"
 #include "cleanslam/readers/dataset_source.hpp"
+#include "cleanslam/tools/output_paths.hpp"
 
 namespace {
 
 using namespace cleanslam;
 
 constexpr const char* kUsage =
-    "usage: cleanslam-replay DATASET --out DIR [--config FILE] [--set key=value ...]\n"
+    "usage: cleanslam-replay DATASET --out DIR [--force] [--accept-gaps] [--config FILE]\n"
+    "                        [--set key=value ...]\n"
     "Runs the firmware loop on a dataset folder as fast as possible (deterministic) and writes\n"
-    "DIR/trajectory.tum (body pose at every processed frame, relative to the first, TUM\n"
-    "t x y z qx qy qz qw), DIR/trajectory.tum.cov (t and the 6x6 covariance over x y z roll\n"
-    "pitch yaw, row-major, position block in the frame of the first pose), "
-    "DIR/dead_reckoning.tum,\n"
-    "DIR/landmarks.csv (slot,x,y,z,sxx,sxy,sxz,syy,syz,szz), DIR/diagnostics.csv (one record per\n"
-    "observation of a visual update) and DIR/fusion.csv (one per scalar update of an odometry\n"
-    "measurement: the turns' difference with filter.wheel_drift_state).\n";
+    "into DIR (created; refused when it holds anything, unless --force, and never inside\n"
+    "DATASET):\n"
+    "  trajectory.tum      body pose at every processed frame, relative to the first (TUM:\n"
+    "                      t x y z qx qy qz qw)\n"
+    "  trajectory.tum.cov  t and the 6x6 covariance over x y z roll pitch yaw, row-major,\n"
+    "                      position block in the frame of the first pose\n"
+    "  dead_reckoning.tum  wheels and gyro alone, at the same frames\n"
+    "  dead_reckoning_published.tum  the same at every published pose (loop.publish_rate_hz):\n"
+    "                      the same time stamps whatever the camera mode\n"
+    "  landmarks.csv       slot,x,y,z,sxx,sxy,sxz,syy,syz,szz\n"
+    "  diagnostics.csv     one record per observation of a visual update\n"
+    "  fusion.csv          one per scalar update of an odometry measurement (turns' difference\n"
+    "                      with filter.wheel_drift_state)\n"
+    "--force        replace the outputs of an earlier run in DIR\n"
+    "--accept-gaps  exit 0 even when a sensor falls silent for longer than its timeout\n"
+    "               (loop.gyro_timeout_s, encoder_timeout_s, camera_timeout_s) or ends early\n"
+    "               (a feature-level dataset's camera silences are the scene's: only noted)\n"
+    "Progress and the firmware's health report go to stderr: a bar on a terminal, else a line\n"
+    "every 10 %. Exit status: 0 done, 1 a sensor gap (outputs written), 2 bad arguments,\n"
+    "configuration or dataset, 130 stopped by a signal.\n";
 
-// A progress bar on stderr, driven by the published poses' time.
+constexpr std::array<const char*, 7> kOutputs{
+    "trajectory.tum", "trajectory.tum.cov", "dead_reckoning.tum", "dead_reckoning_published.tum",
+    "landmarks.csv",  "diagnostics.csv",    "fusion.csv"};
+
+// Progress on stderr, driven by the published poses' time: a bar on a terminal, else a line at
+// every tenth.
 class Progress final : public hal::PoseSink {
  public:
-  Progress(hal::TimeNs t0, hal::TimeNs t1) : t0_(t0), t1_(t1) {}
+  Progress(hal::TimeNs t0, hal::TimeNs t1, bool tty) : t0_(t0), t1_(t1), tty_(tty) {}
   void publish(const hal::PoseEstimate& p) override {
     const double f =
         t1_ > t0_ ? static_cast<double>(p.t_ns - t0_) / static_cast<double>(t1_ - t0_) : 1.0;
-    const int percent = static_cast<int>(std::clamp(f, 0.0, 1.0) * 100.0);
-    if (percent != last_) {
-      last_ = percent;
-      const int bars = percent / 2;
-      std::fprintf(stderr, "\r[%.*s%*s] %3d%%", bars,
-                   "##################################################", 50 - bars, "", percent);
-    }
+    show(static_cast<int>(std::clamp(f, 0.0, 1.0) * 100.0));
   }
-  void flush() override {
-    if (last_ >= 0) {
+  void flush() override {}
+  void done() {
+    show(100);
+    if (tty_) {
       std::fputc('\n', stderr);
     }
   }
 
  private:
+  void show(int percent) {
+    if (percent == last_ || (!tty_ && percent / 10 == last_ / 10 && last_ >= 0)) {
+      return;
+    }
+    last_ = percent;
+    if (tty_) {
+      const int bars = percent / 2;
+      std::fprintf(stderr, "\r[%.*s%*s] %3d%%", bars,
+                   "##################################################", 50 - bars, "", percent);
+    } else {
+      std::fprintf(stderr, "cleanslam-replay: %3d %% (t=%.1f s of %.1f s)\n", percent / 10 * 10,
+                   hal::to_seconds(t1_ - t0_) * (percent / 10 * 10) / 100.0,
+                   hal::to_seconds(t1_ - t0_));
+    }
+    std::fflush(stderr);
+  }
+
   hal::TimeNs t0_;
   hal::TimeNs t1_;
+  bool tty_;
   int last_ = -1;
+};
+
+// The dead-reckoning pose at every published pose's time.
+class DeadReckoningAtPublish final : public hal::PoseSink {
+ public:
+  DeadReckoningAtPublish(const firmware::Estimator& estimator, hal::PoseSink& sink)
+      : estimator_(estimator), sink_(sink) {}
+  void publish(const hal::PoseEstimate& p) override {
+    sink_.publish(estimator_.dead_reckoning_pose(p.t_ns));
+  }
+  void flush() override { sink_.flush(); }
+
+ private:
+  const firmware::Estimator& estimator_;
+  hal::PoseSink& sink_;
 };
 
 int fail(const std::string& message) {
   std::fprintf(stderr, "cleanslam-replay: error: %s\n", message.c_str());
   return 2;
+}
+
+// The file behind each silent source, for the error message.
+std::string source_file(const readers::Dataset& ds, firmware::HealthReport::Source s) {
+  switch (s) {
+    case firmware::HealthReport::kGyro:
+      return ds.folder + "/gyro.csv";
+    case firmware::HealthReport::kEncoders:
+      return ds.folder + "/encoders.csv";
+    default:
+      return ds.folder + (ds.has_camera ? "/cam0/data.csv" : "/features.csv");
+  }
+}
+
+hal::TimeNs timeout_of(const firmware::LoopOptions& o, firmware::HealthReport::Source s) {
+  switch (s) {
+    case firmware::HealthReport::kGyro:
+      return o.gyro_timeout_ns;
+    case firmware::HealthReport::kEncoders:
+      return o.encoder_timeout_ns;
+    default:
+      return o.camera_timeout_ns;
+  }
+}
+
+const char* timeout_key(firmware::HealthReport::Source s) {
+  switch (s) {
+    case firmware::HealthReport::kGyro:
+      return "loop.gyro_timeout_s";
+    case firmware::HealthReport::kEncoders:
+      return "loop.encoder_timeout_s";
+    default:
+      return "loop.camera_timeout_s";
+  }
 }
 
 }  // namespace
@@ -72,6 +157,8 @@ int main(int argc, char** argv) {
   std::string out;
   std::string config_path;
   std::vector<std::string> sets;
+  bool force = false;
+  bool accept_gaps = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
@@ -88,6 +175,10 @@ int main(int argc, char** argv) {
       config_path = argv[++i];
     } else if (a == "--set") {
       sets.emplace_back(argv[++i]);
+    } else if (a == "--force") {
+      force = true;
+    } else if (a == "--accept-gaps") {
+      accept_gaps = true;
     } else if (!a.empty() && a[0] != '-' && dataset.empty()) {
       dataset = a;
     } else {
@@ -122,10 +213,11 @@ int main(int argc, char** argv) {
   if (config.calibration_from_dataset) {
     config.calibration = source->calibration();
   }
-  std::error_code ec;
-  std::filesystem::create_directories(out, ec);
-  if (ec) {
-    return fail(out + ": cannot create: " + ec.message());
+  const tools::OwnedEntry ours = [](const std::string& name) {
+    return std::find(kOutputs.begin(), kOutputs.end(), name) != kOutputs.end();
+  };
+  if (const readers::Status s = tools::prepare_output_dir(out, force, ours, {dataset}); !s) {
+    return fail(s.error());
   }
   const std::unique_ptr<firmware::Estimator> estimator = firmware::make_estimator(config);
   firmware::Loop loop(config.loop, *estimator);
@@ -133,33 +225,48 @@ int main(int argc, char** argv) {
   std::string error;
   firmware::TumWriter trajectory;
   firmware::TumWriter dead_reckoning;
+  firmware::TumWriter dead_reckoning_published;
   firmware::DiagnosticsCsv diagnostics;
   firmware::FusionCsv fusion;
   if (!trajectory.open(out + "/trajectory.tum", true, true, error) ||
       !dead_reckoning.open(out + "/dead_reckoning.tum", true, false, error) ||
+      !dead_reckoning_published.open(out + "/dead_reckoning_published.tum", true, false, error) ||
       !diagnostics.open(out + "/diagnostics.csv", error) ||
       !fusion.open(out + "/fusion.csv", error)) {
     return fail(error);
   }
   loop.add_frame_sinks(&trajectory, &dead_reckoning);
+  DeadReckoningAtPublish published(*estimator, dead_reckoning_published);
+  loop.add_pose_sink(&published);
   loop.add_update_sink(&diagnostics);
   loop.add_update_sink(&fusion);
   const auto& ds = source->dataset();
-  hal::TimeNs t0 = 0;
-  hal::TimeNs t1 = 0;
+  hal::TimeNs t0 = -1;
+  hal::TimeNs t1 = -1;
+  const auto span = [&](hal::TimeNs first, hal::TimeNs last) {
+    t0 = t0 < 0 ? first : std::min(t0, first);
+    t1 = std::max(t1, last);
+  };
   if (!ds.gyro.empty()) {
-    t0 = ds.gyro.front().t_ns;
-    t1 = ds.gyro.back().t_ns;
+    span(ds.gyro.front().t_ns, ds.gyro.back().t_ns);
   }
-  Progress progress(t0, t1);
-  if (::isatty(STDERR_FILENO) != 0) {
-    loop.add_pose_sink(&progress);
+  if (!ds.encoders.empty()) {
+    span(ds.encoders.front().t_ns, ds.encoders.back().t_ns);
   }
+  Progress progress(t0, t1, ::isatty(STDERR_FILENO) != 0);
+  loop.add_pose_sink(&progress);
+  firmware::HealthReport health("cleanslam-replay", stderr);
+  loop.set_health_observer(&health);
   firmware::VirtualClock clock;
   firmware::StopSignals signals;
   const firmware::RunEnd end = firmware::run_virtual(loop, clock, false, &signals);
+  health.finish(clock.now());
   trajectory.close();
   dead_reckoning.close();
+  dead_reckoning_published.close();
+  if (end != firmware::RunEnd::kStopped) {
+    progress.done();
+  }
   if (!firmware::write_landmarks_csv(*estimator, out + "/landmarks.csv", error)) {
     return fail(error);
   }
@@ -168,5 +275,36 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cleanslam-replay: warning: %d images failed to load: %s\n",
                  source->image_errors(), source->last_error().c_str());
   }
-  return end == firmware::RunEnd::kStopped ? 130 : 0;
+  if (end == firmware::RunEnd::kStopped) {
+    return 130;
+  }
+  std::fprintf(stderr, "cleanslam-replay: outputs in %s\n", out.c_str());
+  bool gaps = false;
+  for (int i = 0; i < firmware::HealthReport::kSourceCount; ++i) {
+    const auto src = static_cast<firmware::HealthReport::Source>(i);
+    const firmware::HealthReport::Silence& g = health.silence(src);
+    if (g.episodes == 0) {
+      continue;
+    }
+    // features.csv has no row for a frame without features: its silences are the scene's (no
+    // landmark in view), not the recording's.
+    const bool scene = src == firmware::HealthReport::kCamera && !ds.has_camera;
+    gaps = gaps || !scene;
+    std::fprintf(stderr,
+                 "cleanslam-replay: %s: %s: %s silent %d time(s) for longer than %s = %.3g s, "
+                 "first at t=%.3f s, %.1f s in all (of %.1f s)%s\n",
+                 scene ? "note" : (accept_gaps ? "warning" : "error"), source_file(ds, src).c_str(),
+                 firmware::HealthReport::source_name(src), g.episodes, timeout_key(src),
+                 hal::to_seconds(timeout_of(config.loop, src)), hal::to_seconds(g.first_ns),
+                 hal::to_seconds(g.total_ns), hal::to_seconds(t1 - t0),
+                 scene ? ": frames without features (no landmark in view)" : "");
+  }
+  if (gaps && !accept_gaps) {
+    std::fputs(
+        "cleanslam-replay: the dataset has sensor gaps (a file cut short or samples missing): "
+        "the outputs are written but do not measure the estimator; --accept-gaps accepts them\n",
+        stderr);
+    return 1;
+  }
+  return 0;
 }

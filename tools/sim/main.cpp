@@ -2,6 +2,7 @@
 // name or YAML file) and writes a dataset folder.
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <filesystem>
@@ -23,7 +24,21 @@ void usage(std::FILE* out) {
                "            (sensors.yaml, *.csv, cam0/) of an earlier run there\n"
                "  --seed N  override the scenario's seed\n"
                "  --set k=v override one scenario value, e.g. --set camera.rate_hz=1\n"
-               "  --list    print the built-in scenarios\n");
+               "  --list    print the built-in scenarios, each with its description\n");
+}
+
+// A scenario's description: the comment its YAML text starts with.
+std::string description(const std::string& yaml) {
+  std::string text;
+  std::size_t at = 0;
+  while (at < yaml.size() && yaml[at] == '#') {
+    const std::size_t end = std::min(yaml.find('\n', at), yaml.size());
+    std::string line = yaml.substr(at + 1, end - at - 1);
+    line.erase(0, line.find_first_not_of(' '));
+    text += (text.empty() ? "" : " ") + line;
+    at = end + 1;
+  }
+  return text;
 }
 
 }  // namespace
@@ -40,7 +55,9 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (a == "--list") {
-      for (const auto& n : sim::builtin_scenario_names()) std::printf("%s\n", n.c_str());
+      for (const auto& n : sim::builtin_scenario_names()) {
+        std::printf("%-22s %s\n", n.c_str(), description(sim::builtin_scenario_text(n)).c_str());
+      }
       return 0;
     }
     if (a == "--force") {
@@ -109,12 +126,16 @@ int main(int argc, char** argv) {
   }
   const bool tty = isatty(STDERR_FILENO) != 0;
   int last_percent = -1;
+  // A counter on a terminal; else a line at every tenth.
   auto progress = [&](double f) {
-    if (!tty) return;
-    const int pct = static_cast<int>(f * 100.0);
+    const int pct = tty ? static_cast<int>(f * 100.0) : static_cast<int>(f * 10.0) * 10;
     if (pct == last_percent) return;
     last_percent = pct;
-    std::fprintf(stderr, "\rcleanslam-sim: %s %3d%%", scenario->name.c_str(), pct);
+    if (tty) {
+      std::fprintf(stderr, "\rcleanslam-sim: %s %3d%%", scenario->name.c_str(), pct);
+    } else {
+      std::fprintf(stderr, "cleanslam-sim: %s %3d %%\n", scenario->name.c_str(), pct);
+    }
     std::fflush(stderr);
   };
   auto result = sim::simulate(*scenario, positional[1], progress);

@@ -6,8 +6,9 @@
 // (t_ns,track_id,u_px,v_px: the inliers of every frame that passes JCBB, and each new landmark
 // where it was taken). --overlay DIR writes one PNG per frame with the tracks, search regions and
 // inlier/outlier marks.
-#include <sys/stat.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,7 @@
 
 #include "cleanslam/readers/dataset.hpp"
 #include "cleanslam/readers/gray_image.hpp"
+#include "cleanslam/tools/output_paths.hpp"
 #include "cleanslam/slam_core/frontend/frame_pipeline.hpp"
 #include "image_only_estimator.hpp"
 #include "overlay.hpp"
@@ -27,16 +29,21 @@ namespace tr = cleanslam::tools::track;
 namespace {
 
 void usage(std::FILE* to) {
-  std::fprintf(to,
-               "usage: cleanslam-track DATASET --out FILE [--overlay DIR] [--min-ncc X]\n"
-               "                       [--sigma-motion PX] [--max-frames N]\n"
-               "  DATASET           dataset folder with sensors.yaml and cam0/data.csv\n"
-               "  --out FILE        features.csv to write (t_ns,track_id,u_px,v_px)\n"
-               "  --overlay DIR     write DIR/NNNNNN.png per frame: search regions (yellow),\n"
-               "                    inliers (green), outliers and misses (red), new (cyan)\n"
-               "  --min-ncc X       NCC a match must clear (default 0.8)\n"
-               "  --sigma-motion PX image motion between frames, 1 sigma (default 12)\n"
-               "  --max-frames N    stop after N frames\n");
+  std::fprintf(
+      to,
+      "usage: cleanslam-track DATASET --out FILE [--overlay DIR] [--force] [--min-ncc X]\n"
+      "                       [--sigma-motion PX] [--max-frames N]\n"
+      "  DATASET           dataset folder with sensors.yaml and cam0/data.csv\n"
+      "  --out FILE        features.csv to write (t_ns,track_id,u_px,v_px); its folder is\n"
+      "                    created; refused when it exists (unless --force) or lies in\n"
+      "                    DATASET\n"
+      "  --overlay DIR     write DIR/NNNNNN.png per frame: search regions (yellow),\n"
+      "                    inliers (green), outliers and misses (red), new (cyan); DIR\n"
+      "                    is created, refused when not empty (unless --force)\n"
+      "  --force           replace FILE, and the NNNNNN.png of an earlier run in DIR\n"
+      "  --min-ncc X       NCC a match must clear (default 0.8)\n"
+      "  --sigma-motion PX image motion between frames, 1 sigma (default 12)\n"
+      "  --max-frames N    stop after N frames\n");
 }
 
 bool parse_double(const char* flag, const char* text, double& out) {
@@ -58,6 +65,7 @@ int main(int argc, char** argv) {
   double min_ncc = 0.8;
   double sigma_motion = 12.0;
   double max_frames = -1.0;
+  bool force = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
@@ -71,7 +79,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "cleanslam-track: %s needs a value\n", a.c_str());
       return 2;
     }
-    if (a == "--out") {
+    if (a == "--force") {
+      force = true;
+    } else if (a == "--out") {
       out_path = argv[++i];
     } else if (a == "--overlay") {
       overlay_dir = argv[++i];
@@ -124,10 +134,20 @@ int main(int argc, char** argv) {
                  cleanslam::hal::kImageHeight);
     return 1;
   }
-  if (!overlay_dir.empty() && mkdir(overlay_dir.c_str(), 0755) != 0 && errno != EEXIST) {
-    std::fprintf(stderr, "cleanslam-track: cannot create %s: %s\n", overlay_dir.c_str(),
-                 std::strerror(errno));
+  if (const auto s = cleanslam::tools::prepare_output_file(out_path, force, {dataset}); !s) {
+    std::fprintf(stderr, "cleanslam-track: %s\n", s.error().c_str());
     return 1;
+  }
+  if (!overlay_dir.empty()) {
+    const cleanslam::tools::OwnedEntry ours = [](const std::string& name) {
+      return name.size() == 10 && name.find_first_not_of("0123456789") == 6 &&
+             name.compare(6, 4, ".png") == 0;
+    };
+    if (const auto s = cleanslam::tools::prepare_output_dir(overlay_dir, force, ours, {dataset});
+        !s) {
+      std::fprintf(stderr, "cleanslam-track: %s\n", s.error().c_str());
+      return 1;
+    }
   }
   std::FILE* out = std::fopen(out_path.c_str(), "w");
   if (out == nullptr) {
@@ -154,6 +174,26 @@ int main(int argc, char** argv) {
   long deleted = 0;
   long initialized = 0;
   long rows = 0;
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  const long total = max_frames >= 0.0 ? std::min(static_cast<long>(ds.camera.size()),
+                                                  static_cast<long>(max_frames))
+                                       : static_cast<long>(ds.camera.size());
+  int shown = -1;
+  const auto progress = [&](long done) {
+    const int percent = total > 0 ? static_cast<int>(100 * done / total) : 100;
+    const int step = tty ? percent : percent / 10 * 10;
+    if (step == shown) {
+      return;
+    }
+    shown = step;
+    if (tty) {
+      std::fprintf(stderr, "\rcleanslam-track: frame %ld of %ld, %3d%%", done, total, percent);
+    } else {
+      std::fprintf(stderr, "cleanslam-track: %3d %% (frame %ld of %ld)\n", step, done, total);
+    }
+    std::fflush(stderr);
+  };
+  progress(0);
   for (const cleanslam::readers::CameraIndexRow& row : ds.camera) {
     const std::string path = ds.image_path(row);
     if (max_frames >= 0.0 && static_cast<double>(frames) >= max_frames) {
@@ -209,6 +249,10 @@ int main(int argc, char** argv) {
       }
     }
     estimator.end_frame();
+    progress(frames);
+  }
+  if (tty) {
+    std::fputc('\n', stderr);
   }
   std::fclose(out);
   std::fprintf(stderr,

@@ -1,5 +1,7 @@
 #include "cleanslam/readers/yaml_document.hpp"
 
+#include "cleanslam/readers/nearest_key.hpp"
+
 #include <yaml.h>
 
 #include <algorithm>
@@ -386,10 +388,24 @@ MappingReader MappingReader::optional_mapping(std::string_view key) {
 }
 
 void MappingReader::report_unknown_keys() {
+  static constexpr std::string_view kSet = "--set ";
   for (const Node::Entry& e : node_->entries) {
     if (std::find(used_.begin(), used_.end(), e.key) == used_.end()) {
-      diagnostics_->warnings.push_back(e.key_location.str() + ": " + path(e.key) +
-                                       ": unknown key, ignored");
+      // A key given on the command line (its location is "--set a.b.c") is an error: the user
+      // asked for a value that would silently not apply.
+      const std::string origin = e.key_location.file_name();
+      const bool from_set = origin.rfind(kSet, 0) == 0;
+      const std::string full = from_set ? origin.substr(kSet.size()) : path(e.key);
+      const std::string here = path(e.key) + ".";
+      const std::string rest =
+          full.rfind(here, 0) == 0 ? full.substr(here.size() - 1) : std::string();
+      const std::string hint = unknown_key_hint(e.key, used_, prefix_, rest);
+      if (from_set) {
+        diagnostics_->errors.push_back(origin + ": unknown key " + path(e.key) + "; " + hint);
+      } else {
+        diagnostics_->warnings.push_back(e.key_location.str() + ": " + path(e.key) +
+                                         ": unknown key, ignored; " + hint);
+      }
     }
   }
 }

@@ -287,8 +287,10 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
   }
   r.report_unknown_keys();
   // In a scenario a misspelt key would silently keep a default: unknown keys are errors.
-  for (const std::string& w : diag.warnings)
-    diag.errors.push_back(w.substr(0, w.rfind(", ignored")));
+  for (std::string w : diag.warnings) {
+    if (const auto at = w.find(", ignored"); at != std::string::npos) w.erase(at, 9);
+    diag.errors.push_back(w);
+  }
   auto positive = [&](double v, const char* key) {
     if (!(v > 0.0)) diag.errors.push_back(std::string(key) + ": must be positive");
   };

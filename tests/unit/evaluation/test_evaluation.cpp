@@ -161,6 +161,41 @@ TEST(Evaluation, NoiseGivesMatchingAteAndConsistentNees) {
   EXPECT_EQ(bad->nees_not_positive_definite, 0);
 }
 
+// The mean NEES is stated as a ratio to 3 with the 95 % band of the mean of N chi-square(3)
+// values: consistent noise lands inside, a covariance 4x too small (ratio 4) above it, one 4x
+// too large below it.
+TEST(Evaluation, NeesRatioWithItsBandAndVerdict) {
+  const auto gt = make_gt();
+  const double sigma = 0.05;
+  auto est = make_estimate(gt, 0.0, {0, 0, 0}, sigma);
+  const auto with_variance = [&](double v) {
+    for (auto& p : est) p.position_covariance = std::array<double, 9>{v, 0, 0, 0, v, 0, 0, 0, v};
+    return ev::evaluate(gt, est, ev::Alignment::kSe3);
+  };
+  auto m = with_variance(sigma * sigma);
+  ASSERT_TRUE(m.ok());
+  EXPECT_NEAR(m->nees_ratio, m->nees_mean / 3.0, 1e-12);
+  const double n = m->nees_count;
+  // chi-square(3N)/(3N): mean 1, standard deviation sqrt(2/(3N)).
+  EXPECT_NEAR(m->nees_ratio_low, 1.0 - 1.96 * std::sqrt(2.0 / (3.0 * n)), 0.01);
+  EXPECT_NEAR(m->nees_ratio_high, 1.0 + 1.96 * std::sqrt(2.0 / (3.0 * n)), 0.01);
+  EXPECT_STREQ(ev::nees_verdict(*m), "consistent") << m->nees_ratio;
+  EXPECT_NE(ev::to_text(*m, ev::Alignment::kSe3).find(": consistent;"), std::string::npos);
+  auto over = with_variance(sigma * sigma / 4.0);
+  EXPECT_NEAR(over->nees_ratio, 4.0 * m->nees_ratio, 1e-9);
+  EXPECT_STREQ(ev::nees_verdict(*over), "overconfident");
+  EXPECT_NE(ev::to_json(*over, ev::Alignment::kSe3).find("\"nees_verdict\": \"overconfident\""),
+            std::string::npos);
+  auto under = with_variance(sigma * sigma * 4.0);
+  EXPECT_STREQ(ev::nees_verdict(*under), "conservative");
+  est.clear();
+  est = make_estimate(gt, 0.0, {0, 0, 0}, sigma);
+  auto none = ev::evaluate(gt, est, ev::Alignment::kSe3);
+  EXPECT_STREQ(ev::nees_verdict(*none), "");
+  EXPECT_NE(ev::to_json(*none, ev::Alignment::kSe3).find("\"nees_verdict\": null"),
+            std::string::npos);
+}
+
 // A covariance that is not positive definite is left out of the NEES, and said so: before, the
 // pose count was the only trace of it.
 TEST(Evaluation, CovariancesNotPositiveDefiniteAreCountedNotHidden) {

@@ -7,6 +7,8 @@
 
 #include "cleanslam/readers/yaml_document.hpp"
 
+#include "cleanslam/readers/nearest_key.hpp"
+
 namespace y = cleanslam::readers::yaml;
 
 namespace {
@@ -134,8 +136,54 @@ TEST(YamlDocument, UnknownKeysAreWarnings) {
   root.report_unknown_keys();
   EXPECT_TRUE(diag.ok());
   ASSERT_EQ(diag.warnings.size(), 2U);
-  EXPECT_EQ(diag.warnings[0], "sensors.yaml:12: wheels.extra: unknown key, ignored");
-  EXPECT_EQ(diag.warnings[1], "sensors.yaml:1: camera: unknown key, ignored");
+  EXPECT_EQ(diag.warnings[0],
+            "sensors.yaml:12: wheels.extra: unknown key, ignored; valid keys: wheels.wheel_base");
+  EXPECT_EQ(diag.warnings[1], "sensors.yaml:1: camera: unknown key, ignored; valid keys: wheels");
+}
+
+// A key given with --set that no reader asks for is an error naming the nearest valid key, with
+// the rest of the dotted key when a section's name was misspelt.
+TEST(YamlDocument, UnknownSetKeysAreErrorsWithTheNearestValidKey) {
+  auto doc = y::parse_string("1", "--set filter.eps_ctm");
+  ASSERT_TRUE(doc.ok());
+  y::Node root;
+  root.kind = y::Node::Kind::kMapping;
+  y::Node filter;
+  filter.kind = y::Node::Kind::kMapping;
+  filter.entries.push_back(y::Node::Entry{"eps_ctm", doc->location, *doc});
+  root.entries.push_back(y::Node::Entry{"filter", doc->location, filter});
+  auto typo = y::parse_string("1", "--set filtr.eps_ct_m");
+  ASSERT_TRUE(typo.ok());
+  y::Node section;
+  section.kind = y::Node::Kind::kMapping;
+  section.entries.push_back(y::Node::Entry{"eps_ct_m", typo->location, *typo});
+  root.entries.push_back(y::Node::Entry{"filtr", typo->location, section});
+  y::Diagnostics diag;
+  y::MappingReader top(root, "", diag);
+  y::MappingReader f = top.optional_mapping("filter");
+  f.optional_double("eps_ct_m", 0.0);
+  f.optional_double("gate_chi2", 0.0);
+  f.report_unknown_keys();
+  top.report_unknown_keys();
+  EXPECT_TRUE(diag.warnings.empty());
+  ASSERT_EQ(diag.errors.size(), 2U);
+  EXPECT_EQ(diag.errors[0],
+            "--set filter.eps_ctm: unknown key filter.eps_ctm; did you mean filter.eps_ct_m?");
+  EXPECT_EQ(diag.errors[1],
+            "--set filtr.eps_ct_m: unknown key filtr; did you mean filter.eps_ct_m?");
+}
+
+TEST(NearestKey, EditDistanceAndTheNearestOfTheValidKeys) {
+  EXPECT_EQ(cleanslam::readers::edit_distance("", "abc"), 3U);
+  EXPECT_EQ(cleanslam::readers::edit_distance("kitten", "sitting"), 3U);
+  EXPECT_EQ(cleanslam::readers::edit_distance("eps_ctm", "eps_ct_m"), 1U);
+  const std::vector<std::string> valid{"eps_ct_m", "gate_chi2", "max_landmarks"};
+  EXPECT_EQ(cleanslam::readers::nearest_key("gate_chi", valid), "gate_chi2");
+  EXPECT_EQ(cleanslam::readers::nearest_key("max_landmark", valid), "max_landmarks");
+  EXPECT_EQ(cleanslam::readers::nearest_key("zzzzzzzzzzzz", valid), "");
+  EXPECT_EQ(cleanslam::readers::nearest_key("x", {}), "");
+  EXPECT_EQ(cleanslam::readers::unknown_key_hint("zzzzzzzzzz", valid, "filter", ""),
+            "valid keys: filter.eps_ct_m, filter.gate_chi2, filter.max_landmarks");
 }
 
 TEST(YamlDocument, WrongSequenceLengthAndBadItem) {

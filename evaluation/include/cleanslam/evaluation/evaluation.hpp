@@ -52,6 +52,12 @@ struct Metrics {
   int nees_count = 0;
   double nees_mean = 0.0;
   double nees_fraction_in_95 = 0.0;
+  // The mean NEES as a ratio to its consistent value 3, and the two-sided 95% band of that ratio
+  // for nees_count independent poses (the mean of N chi-square(3) values is chi-square(3N)/N;
+  // Wilson-Hilferty). Successive poses are correlated, so the band is a lower bound on the width.
+  double nees_ratio = 0.0;
+  double nees_ratio_low = 0.0;
+  double nees_ratio_high = 0.0;
   // Poses whose covariance is not positive definite (a corrupt file or an estimator's fault):
   // left out of the NEES, counted, and the first one's time (seconds).
   int nees_not_positive_definite = 0;
@@ -60,6 +66,10 @@ struct Metrics {
   std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};
   std::array<double, 3> translation{};
 };
+
+// "overconfident" (ratio above the band: errors larger than the covariance claims),
+// "conservative" (below it) or "consistent"; "" without covariances.
+const char* nees_verdict(const Metrics& m);
 
 // Ground truth interpolated at `t` (linear in position, slerp in orientation), or nullopt outside
 // its time span.
