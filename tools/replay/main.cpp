@@ -1,6 +1,6 @@
 // cleanslam-replay DATASET --out DIR [--force] [--accept-gaps] [--config FILE] [--set key=value]
-// Runs the firmware's own loop on a dataset through the readers library, as fast as it can, on a virtual
-// clock: deterministic. Writes DIR/trajectory.tum (+ .cov), dead_reckoning.tum,
+// Runs the firmware's own loop on a dataset through the readers library, as fast as it can, on a
+// virtual clock: deterministic. Writes DIR/trajectory.tum (+ .cov), dead_reckoning.tum,
 // dead_reckoning_published.tum, landmarks.csv, diagnostics.csv, fusion.csv.
 #include <unistd.h>
 

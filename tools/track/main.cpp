@@ -18,8 +18,8 @@
 
 #include "cleanslam/readers/dataset.hpp"
 #include "cleanslam/readers/gray_image.hpp"
-#include "cleanslam/tools/output_paths.hpp"
 #include "cleanslam/slam_core/frontend/frame_pipeline.hpp"
+#include "cleanslam/tools/output_paths.hpp"
 #include "image_only_estimator.hpp"
 #include "overlay.hpp"
 

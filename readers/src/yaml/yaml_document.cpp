@@ -391,8 +391,8 @@ void MappingReader::report_unknown_keys() {
   static constexpr std::string_view kSet = "--set ";
   for (const Node::Entry& e : node_->entries) {
     if (std::find(used_.begin(), used_.end(), e.key) == used_.end()) {
-      // A key given on the command line (its location is "--set a.b.c") is an error: the user
-      // asked for a value that would silently not apply.
+      // An unknown key is an error, in a file as on the command line: the value it was meant to
+      // set would silently not apply.
       const std::string origin = e.key_location.file_name();
       const bool from_set = origin.rfind(kSet, 0) == 0;
       const std::string full = from_set ? origin.substr(kSet.size()) : path(e.key);
@@ -403,8 +403,8 @@ void MappingReader::report_unknown_keys() {
       if (from_set) {
         diagnostics_->errors.push_back(origin + ": unknown key " + path(e.key) + "; " + hint);
       } else {
-        diagnostics_->warnings.push_back(e.key_location.str() + ": " + path(e.key) +
-                                         ": unknown key, ignored; " + hint);
+        diagnostics_->errors.push_back(e.key_location.str() + ": " + path(e.key) +
+                                       ": unknown key; " + hint);
       }
     }
   }

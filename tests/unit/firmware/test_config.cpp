@@ -130,11 +130,11 @@ TEST(Config, CalibrationDistortionIsRangeChecked) {
                   .ok());
 }
 
-TEST(Config, UnknownKeysWarnWithTheirLocation) {
+TEST(Config, UnknownKeysAreErrorsWithTheirLocation) {
   const ConfigResult r = parse_config("loop:\n  publish_rate: 10\nfiltre: {}\n", "w.yaml", {});
-  ASSERT_TRUE(r.ok()) << joined(r.errors);
-  ASSERT_EQ(r.warnings.size(), 2U) << joined(r.warnings);
-  const std::string all = joined(r.warnings);
+  EXPECT_FALSE(r.ok());
+  ASSERT_EQ(r.errors.size(), 2U) << joined(r.errors);
+  const std::string all = joined(r.errors);
   EXPECT_NE(all.find("w.yaml:2"), std::string::npos) << all;
   EXPECT_NE(all.find("loop.publish_rate"), std::string::npos) << all;
   EXPECT_NE(all.find("filtre"), std::string::npos) << all;
@@ -386,20 +386,24 @@ TEST(ParameterConfig, TheFirmwaresKeysDefaultsAreTheListedOnes) {
   }
 }
 
-TEST(ParameterConfig, FrontEndKeysReachThePipelineAndUnknownNestedKeysWarn) {
+TEST(ParameterConfig, FrontEndKeysReachThePipelineAndUnknownNestedKeysAreErrors) {
   const ConfigResult r = parse_config(
       "frontend:\n  harris:\n    k: 0.05\n    max_corner: 3\n  tracker:\n    min_ncc: 0.7\n"
       "  landmark_book:\n    min_in_view: 3\n",
       "f.yaml", {"frontend.search_region.max_half_extent_px=25"});
-  ASSERT_TRUE(r.ok()) << joined(r.errors);
-  const auto& fe = r.config.slam.frontend;
+  ASSERT_EQ(r.errors.size(), 1U) << joined(r.errors);
+  EXPECT_NE(r.errors[0].find("f.yaml:4"), std::string::npos) << r.errors[0];
+  EXPECT_NE(r.errors[0].find("frontend.harris.max_corner"), std::string::npos) << r.errors[0];
+  const ConfigResult good = parse_config(
+      "frontend:\n  harris:\n    k: 0.05\n  tracker:\n    min_ncc: 0.7\n"
+      "  landmark_book:\n    min_in_view: 3\n",
+      "f.yaml", {"frontend.search_region.max_half_extent_px=25"});
+  ASSERT_TRUE(good.ok()) << joined(good.errors);
+  const auto& fe = good.config.slam.frontend;
   EXPECT_EQ(fe.harris.k, 0.05F);
   EXPECT_EQ(fe.tracker.min_ncc, 0.7F);
   EXPECT_EQ(fe.book.min_in_view, 3);
   EXPECT_EQ(fe.region.max_half_extent_px, 25.0);
-  ASSERT_EQ(r.warnings.size(), 1U) << joined(r.warnings);
-  EXPECT_NE(r.warnings[0].find("f.yaml:4"), std::string::npos) << r.warnings[0];
-  EXPECT_NE(r.warnings[0].find("frontend.harris.max_corner"), std::string::npos) << r.warnings[0];
 }
 
 }  // namespace

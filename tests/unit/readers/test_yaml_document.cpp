@@ -125,7 +125,7 @@ TEST(YamlDocument, MissingRequiredKeyIsAnError) {
   EXPECT_NE(diag.errors[2].find("wheels.wheel_base: missing required key"), std::string::npos);
 }
 
-TEST(YamlDocument, UnknownKeysAreWarnings) {
+TEST(YamlDocument, UnknownKeysAreErrors) {
   auto doc = y::parse_string(kSensors, "sensors.yaml");
   ASSERT_TRUE(doc.ok());
   y::Diagnostics diag;
@@ -134,11 +134,12 @@ TEST(YamlDocument, UnknownKeysAreWarnings) {
   wheels.required_double("wheel_base");
   wheels.report_unknown_keys();
   root.report_unknown_keys();
-  EXPECT_TRUE(diag.ok());
-  ASSERT_EQ(diag.warnings.size(), 2U);
-  EXPECT_EQ(diag.warnings[0],
-            "sensors.yaml:12: wheels.extra: unknown key, ignored; valid keys: wheels.wheel_base");
-  EXPECT_EQ(diag.warnings[1], "sensors.yaml:1: camera: unknown key, ignored; valid keys: wheels");
+  EXPECT_FALSE(diag.ok());
+  EXPECT_TRUE(diag.warnings.empty());
+  ASSERT_EQ(diag.errors.size(), 2U);
+  EXPECT_EQ(diag.errors[0],
+            "sensors.yaml:12: wheels.extra: unknown key; valid keys: wheels.wheel_base");
+  EXPECT_EQ(diag.errors[1], "sensors.yaml:1: camera: unknown key; valid keys: wheels");
 }
 
 // A key given with --set that no reader asks for is an error naming the nearest valid key, with

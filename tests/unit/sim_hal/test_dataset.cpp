@@ -263,14 +263,12 @@ TEST(Dataset, MissingRequiredYamlKey) {
   EXPECT_TRUE(contains(e, "wheels.wheel_base: expected a number, got \"wide\"")) << e;
 }
 
-TEST(Dataset, UnknownYamlKeyIsAWarning) {
+TEST(Dataset, UnknownYamlKeyIsAnError) {
   TempDir dir;
   make_dataset(dir.str());
   replace_in_file(dir.path() / "sensors.yaml", "gyro:\n", "gyro:\n  colour: blue\n");
-  auto d = readers::load_dataset(dir.str());
-  ASSERT_TRUE(d.ok()) << d.error();
-  ASSERT_EQ(d->warnings.size(), 1U);
-  EXPECT_TRUE(contains(d->warnings[0], "gyro.colour: unknown key, ignored")) << d->warnings[0];
+  const std::string e = load_error(dir.str());
+  EXPECT_TRUE(contains(e, "gyro.colour: unknown key")) << e;
 }
 
 TEST(Dataset, BadTransformIsRefused) {

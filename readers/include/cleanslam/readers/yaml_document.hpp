@@ -103,7 +103,7 @@ class MappingReader {
   // The raw node of a key (marked as known), or nullptr.
   const Node* node(std::string_view key);
 
-  // Warns "file:line: prefix.key: unknown key, ignored" for each key not asked for.
+  // An error "file:line: prefix.key: unknown key; did you mean ..." for each key not asked for.
   void report_unknown_keys();
   // Full dotted name of a key of this mapping.
   [[nodiscard]] std::string path(std::string_view key) const;
