@@ -250,17 +250,20 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
   {
     Section r = top.sub("robot");
     auto& x = cfg.robot;
-    const std::string set_down = r.text("on_set_down", "new_map");
+    slam_core::MapConfig& m = cfg.slam.map;
+    using SetDown = slam_core::MapConfig::SetDown;
+    const std::string set_down =
+        r.text("on_set_down", m.on_set_down == SetDown::kRelocalize ? "relocalize" : "new_map");
     if (set_down == "relocalize") {
-      x.on_set_down = RobotSettings::SetDown::kRelocalize;
+      m.on_set_down = SetDown::kRelocalize;
     } else if (set_down == "new_map") {
-      x.on_set_down = RobotSettings::SetDown::kNewMap;
+      m.on_set_down = SetDown::kNewMap;
     } else {
       r.error("on_set_down", "\"" + set_down + "\" is not one of relocalize, new_map");
     }
-    x.relocalize_std_m = r.number("relocalize_std_m", x.relocalize_std_m, 0.0, 100.0);
-    x.relocalize_std_yaw_deg =
-        r.number("relocalize_std_yaw_deg", x.relocalize_std_yaw_deg, 0.0, 180.0);
+    m.relocalize_std_m = r.number("relocalize_std_m", m.relocalize_std_m, 0.0, 100.0);
+    m.relocalize_std_yaw_deg =
+        r.number("relocalize_std_yaw_deg", m.relocalize_std_yaw_deg, 0.0, 180.0);
     x.status_led_line = r.integer("status_led_line", x.status_led_line, -1, 1023);
     x.gyro_ready_line = r.integer("gyro_ready_line", x.gyro_ready_line, -1, 1023);
     x.gyro_ready_max_latency_s =
@@ -465,11 +468,13 @@ std::string config_text(const FirmwareConfig& c) {
     << "  buffer_kb: " << (r.buffer_bytes >> 10) << "\n"
     << "  write_chunk_kb: " << (r.write_chunk_bytes >> 10) << "\n";
   const auto& b = c.robot;
+  const slam_core::MapConfig& m = c.slam.map;
   s << "robot:\n"
     << "  on_set_down: "
-    << (b.on_set_down == RobotSettings::SetDown::kRelocalize ? "relocalize" : "new_map") << "\n"
-    << "  relocalize_std_m: " << fmt(b.relocalize_std_m) << "\n"
-    << "  relocalize_std_yaw_deg: " << fmt(b.relocalize_std_yaw_deg) << "\n"
+    << (m.on_set_down == slam_core::MapConfig::SetDown::kRelocalize ? "relocalize" : "new_map")
+    << "\n"
+    << "  relocalize_std_m: " << fmt(m.relocalize_std_m) << "\n"
+    << "  relocalize_std_yaw_deg: " << fmt(m.relocalize_std_yaw_deg) << "\n"
     << "  status_led_line: " << b.status_led_line << "\n"
     << "  gyro_ready_line: " << b.gyro_ready_line << "\n"
     << "  gyro_ready_max_latency_s: " << fmt(b.gyro_ready_max_latency_s) << "\n";

@@ -89,7 +89,7 @@ recorder:
 
 # The robot's GPIO lines (on source.gpio_chip) and the wheel-drop switch's policy (drivers).
 robot:
-  on_set_down: new_map       # after a lift (source.lift_line): new_map | relocalize (keep the map)
+  on_set_down: relocalize    # after a lift (source.lift_line): relocalize (keep the map) | new_map
   relocalize_std_m: 0.3      # relocalize: position uncertainty added at set-down, [0, 100]
   relocalize_std_yaw_deg: 20 # relocalize: heading uncertainty added at set-down, [0, 180]
   status_led_line: -1        # GPIO output of the status LED (steady: OK, 1 Hz: degraded, 4 Hz: fault), -1: none

@@ -50,15 +50,15 @@ TEST(RobotConfig, SetDownPolicyAndLinesAreReadAndValidated) {
       "  gyro_ready_line: 7\n  gyro_ready_max_latency_s: 0.004\n",
       "r.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_EQ(r.config.robot.on_set_down, RobotSettings::SetDown::kRelocalize);
-  EXPECT_EQ(r.config.robot.relocalize_std_m, 0.5);
+  EXPECT_EQ(r.config.slam.map.on_set_down, slam_core::MapConfig::SetDown::kRelocalize);
+  EXPECT_EQ(r.config.slam.map.relocalize_std_m, 0.5);
   EXPECT_EQ(r.config.robot.status_led_line, 4);
   EXPECT_EQ(r.config.robot.gyro_ready_line, 7);
   EXPECT_EQ(r.config.robot.gyro_ready_max_latency_s, 0.004);
-  EXPECT_EQ(FirmwareConfig{}.robot.on_set_down, RobotSettings::SetDown::kNewMap);
+  EXPECT_EQ(FirmwareConfig{}.slam.map.on_set_down, slam_core::MapConfig::SetDown::kRelocalize);
   const auto back = parse_config(firmware::config_text(r.config), "back", {});
   ASSERT_TRUE(back.ok()) << joined(back.errors);
-  EXPECT_EQ(back.config.robot.on_set_down, RobotSettings::SetDown::kRelocalize);
+  EXPECT_EQ(back.config.slam.map.on_set_down, slam_core::MapConfig::SetDown::kRelocalize);
 
   const auto bad = parse_config(
       "robot:\n  on_set_down: teleport\n  status_led_line: -2\n  relocalize_std_yaw_deg: 400\n",

@@ -31,15 +31,10 @@ struct SinkSettings {
   std::string can_interface = "can0";  // pose frames 0x201/0x202 of docs/can.md
 };
 
-// The robot's GPIO wiring (lines of source.gpio_chip) and what the wheel-drop switch means.
+// The robot's GPIO wiring (lines of source.gpio_chip). What the wheel-drop switch means
+// (robot.on_set_down, relocalize_std_m, relocalize_std_yaw_deg) is the estimator's
+// slam_core::MapConfig.
 struct RobotSettings {
-  // Set down after a lift: relocalize against the existing map (an unknown displacement of
-  // relocalize_std_m, relocalize_std_yaw_deg folded into the pose covariance; the pose stays
-  // lost until a visual update fuses), or start a new map at the set-down pose.
-  enum class SetDown { kRelocalize, kNewMap };
-  SetDown on_set_down = SetDown::kNewMap;
-  double relocalize_std_m = 0.3;
-  double relocalize_std_yaw_deg = 20.0;
   int status_led_line = -1;  // GPIO output: steady OK, slow blink degraded, fast blink fault
   int gyro_ready_line = -1;  // GPIO input, rising edge when the gyro sampled; -1: CAN time
   double gyro_ready_max_latency_s = 0.008;  // edge to CAN reception, at most

@@ -29,7 +29,7 @@ struct MapConfig {
   // relocalized against it, the carry being an unknown planar displacement with zero mean and
   // these std. devs. (x and y, yaw).
   enum class SetDown : std::uint8_t { kNewMap, kRelocalize };
-  SetDown on_set_down = SetDown::kNewMap;
+  SetDown on_set_down = SetDown::kRelocalize;
   double relocalize_std_m = 0.3;
   double relocalize_std_yaw_deg = 20.0;
 };
