@@ -20,23 +20,10 @@ std::vector<sim_hal::LogRecordRef> outputs(const sim_hal::LogReader& r) {
   return out;
 }
 
-const char* type_name(lf::RecordType t) {
-  switch (t) {
-    case lf::RecordType::kPose:
-      return "pose";
-    case lf::RecordType::kUpdate:
-      return "update";
-    case lf::RecordType::kFusion:
-      return "fusion";
-    default:
-      return "record";
-  }
-}
-
 std::string describe(const sim_hal::LogReader& r, const sim_hal::LogRecordRef& rec) {
   std::ostringstream s;
   lf::ByteReader p = r.payload(rec);
-  s << type_name(rec.type) << " at offset " << rec.offset << " (t_ns " << p.i64() << ")";
+  s << lf::to_string(rec.type) << " at offset " << rec.offset << " (t_ns " << p.i64() << ")";
   return s.str();
 }
 

@@ -24,6 +24,36 @@ std::string read_time(const CsvRow& row, hal::TimeNs previous, bool first, bool 
   return {};
 }
 
+// Refuses rows stamped past the file's first row plus the span (RowLimits).
+class SpanCheck {
+ public:
+  explicit SpanCheck(const RowLimits& limits) : limits_(limits) {}
+  bool keep(const CsvRow& row, hal::TimeNs t) {
+    if (!have_first_) {
+      have_first_ = true;
+      end_ = hal::add_saturated(t, limits_.max_span_ns);
+    }
+    if (t <= end_) return true;
+    if (limits_.refused != nullptr) ++*limits_.refused;
+    if (limits_.warnings != nullptr && ++told_ <= kMaxTold) {
+      limits_.warnings->push_back(row.fail(
+          0, "time stamp " + std::to_string(t) + " is more than " +
+                 format_double(hal::to_seconds(limits_.max_span_ns)) +
+                 " s (loop.max_span_s) after the file's first row: row refused" +
+                 (told_ == kMaxTold ? " (later ones of this file are refused without a message)"
+                                    : "")));
+    }
+    return false;
+  }
+
+ private:
+  static constexpr int kMaxTold = 3;
+  const RowLimits& limits_;
+  int told_ = 0;
+  bool have_first_ = false;
+  hal::TimeNs end_ = 0;
+};
+
 // Tick counts are 32-bit counters; values written as unsigned (up to 2^32 - 1) wrap.
 std::string read_ticks(const CsvRow& row, std::size_t i, std::int32_t& out) {
   auto v = row.integer(i);
@@ -38,8 +68,10 @@ std::string read_ticks(const CsvRow& row, std::size_t i, std::int32_t& out) {
 
 }  // namespace
 
-Result<std::vector<hal::GyroSample>> read_gyro_csv(const std::string& path) {
+Result<std::vector<hal::GyroSample>> read_gyro_csv(const std::string& path,
+                                                   const RowLimits& limits) {
   using R = Result<std::vector<hal::GyroSample>>;
+  SpanCheck span(limits);
   std::vector<hal::GyroSample> out;
   std::vector<std::string> columns;
   Status s = read_csv(
@@ -49,6 +81,7 @@ Result<std::vector<hal::GyroSample>> read_gyro_csv(const std::string& path) {
         std::string e =
             read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, g.t_ns);
         if (!e.empty()) return e;
+        if (!span.keep(row, g.t_ns)) return {};
         auto wz = row.number(1);
         if (!wz.ok()) return wz.error();
         g.wz_rad_s = *wz;
@@ -70,14 +103,17 @@ Result<std::vector<hal::GyroSample>> read_gyro_csv(const std::string& path) {
   return out;
 }
 
-Result<std::vector<hal::EncoderSample>> read_encoders_csv(const std::string& path) {
+Result<std::vector<hal::EncoderSample>> read_encoders_csv(const std::string& path,
+                                                          const RowLimits& limits) {
   using R = Result<std::vector<hal::EncoderSample>>;
+  SpanCheck span(limits);
   std::vector<hal::EncoderSample> out;
   Status s = read_csv(path, CsvSpec{{"t_ns", "left_ticks", "right_ticks"}, {}},
                       [&](const CsvRow& row) -> std::string {
                         hal::EncoderSample e;
                         std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
                                                     out.empty(), true, e.t_ns);
+                        if (err.empty() && !span.keep(row, e.t_ns)) return {};
                         if (err.empty()) err = read_ticks(row, 1, e.left_ticks);
                         if (err.empty()) err = read_ticks(row, 2, e.right_ticks);
                         if (!err.empty()) return err;
@@ -89,8 +125,10 @@ Result<std::vector<hal::EncoderSample>> read_encoders_csv(const std::string& pat
   return out;
 }
 
-Result<std::vector<CameraIndexRow>> read_camera_csv(const std::string& path) {
+Result<std::vector<CameraIndexRow>> read_camera_csv(const std::string& path,
+                                                    const RowLimits& limits) {
   using R = Result<std::vector<CameraIndexRow>>;
+  SpanCheck span(limits);
   std::vector<CameraIndexRow> out;
   Status s =
       read_csv(path, CsvSpec{{"t_ns", "filename"}, {}}, [&](const CsvRow& row) -> std::string {
@@ -98,6 +136,7 @@ Result<std::vector<CameraIndexRow>> read_camera_csv(const std::string& path) {
         std::string err =
             read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, c.t_ns);
         if (!err.empty()) return err;
+        if (!span.keep(row, c.t_ns)) return {};
         const std::string_view name = row.text(1);
         if (name.empty()) return row.fail(1, "empty file name");
         const bool parent = name == ".." || name.starts_with("../") || name.ends_with("/..") ||
@@ -115,8 +154,10 @@ Result<std::vector<CameraIndexRow>> read_camera_csv(const std::string& path) {
   return out;
 }
 
-Result<std::vector<FeatureRow>> read_features_csv(const std::string& path) {
+Result<std::vector<FeatureRow>> read_features_csv(const std::string& path,
+                                                  const RowLimits& limits) {
   using R = Result<std::vector<FeatureRow>>;
+  SpanCheck span(limits);
   std::vector<FeatureRow> out;
   Status s = read_csv(path, CsvSpec{{"t_ns", "track_id", "u_px", "v_px"}, {}},
                       [&](const CsvRow& row) -> std::string {
@@ -124,6 +165,7 @@ Result<std::vector<FeatureRow>> read_features_csv(const std::string& path) {
                         std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
                                                     out.empty(), false, f.t_ns);
                         if (!err.empty()) return err;
+                        if (!span.keep(row, f.t_ns)) return {};
                         auto id = row.integer(1);
                         if (!id.ok()) return id.error();
                         if (*id < 0) return row.fail(1, "track id must be non-negative");
@@ -139,8 +181,10 @@ Result<std::vector<FeatureRow>> read_features_csv(const std::string& path) {
   return out;
 }
 
-Result<std::vector<GroundTruthPose>> read_groundtruth_csv(const std::string& path) {
+Result<std::vector<GroundTruthPose>> read_groundtruth_csv(const std::string& path,
+                                                          const RowLimits& limits) {
   using R = Result<std::vector<GroundTruthPose>>;
+  SpanCheck span(limits);
   std::vector<GroundTruthPose> out;
   Status s =
       read_csv(path, CsvSpec{{"t_ns", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz"}, {}},
@@ -149,6 +193,7 @@ Result<std::vector<GroundTruthPose>> read_groundtruth_csv(const std::string& pat
                  std::string err =
                      read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, p.t_ns);
                  if (!err.empty()) return err;
+                 if (!span.keep(row, p.t_ns)) return {};
                  double v[7];
                  for (std::size_t i = 0; i < 7; ++i) {
                    auto x = row.number(i + 1);
@@ -168,13 +213,15 @@ Result<std::vector<GroundTruthPose>> read_groundtruth_csv(const std::string& pat
   return out;
 }
 
-Result<std::vector<LiftRow>> read_lift_csv(const std::string& path) {
+Result<std::vector<LiftRow>> read_lift_csv(const std::string& path, const RowLimits& limits) {
   using R = Result<std::vector<LiftRow>>;
+  SpanCheck span(limits);
   std::vector<LiftRow> out;
   Status s = read_csv(path, CsvSpec{{"t_ns", "lifted"}, {}}, [&](const CsvRow& row) -> std::string {
     LiftRow l;
     std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, l.t_ns);
     if (!err.empty()) return err;
+    if (!span.keep(row, l.t_ns)) return {};
     auto v = row.integer(1);
     if (!v.ok()) return v.error();
     if (*v != 0 && *v != 1) return row.fail(1, "expected 0 or 1, got " + std::to_string(*v));
@@ -200,10 +247,11 @@ Result<Dataset> load_dataset(const std::string& folder, const LoadOptions& optio
   auto cal = read_sensors_yaml((root / "sensors.yaml").string(), &d.warnings);
   if (!cal.ok()) return R::failure(cal.error());
   d.calibration = *cal;
-  auto gyro = read_gyro_csv((root / "gyro.csv").string());
+  const RowLimits limits{options.max_span_ns, &d.warnings, &d.rows_refused};
+  auto gyro = read_gyro_csv((root / "gyro.csv").string(), limits);
   if (!gyro.ok()) return R::failure(gyro.error());
   d.gyro = std::move(gyro).value();
-  auto enc = read_encoders_csv((root / "encoders.csv").string());
+  auto enc = read_encoders_csv((root / "encoders.csv").string(), limits);
   if (!enc.ok()) return R::failure(enc.error());
   d.encoders = std::move(enc).value();
 
@@ -215,7 +263,7 @@ Result<Dataset> load_dataset(const std::string& folder, const LoadOptions& optio
     return R::failure(folder + ": neither cam0/data.csv nor features.csv found (one is required)");
   }
   if (d.has_camera) {
-    auto cam = read_camera_csv(cam_csv.string());
+    auto cam = read_camera_csv(cam_csv.string(), limits);
     if (!cam.ok()) return R::failure(cam.error());
     d.camera = std::move(cam).value();
     if (options.check_images) {
@@ -237,20 +285,20 @@ Result<Dataset> load_dataset(const std::string& folder, const LoadOptions& optio
     }
   }
   if (d.has_features) {
-    auto f = read_features_csv(features_csv.string());
+    auto f = read_features_csv(features_csv.string(), limits);
     if (!f.ok()) return R::failure(f.error());
     d.features = std::move(f).value();
   }
   const fs::path lift = root / "lift.csv";
   if (fs::exists(lift, ec)) {
-    auto l = read_lift_csv(lift.string());
+    auto l = read_lift_csv(lift.string(), limits);
     if (!l.ok()) return R::failure(l.error());
     d.lift = std::move(l).value();
   }
   const fs::path gt = root / "groundtruth.csv";
   d.has_groundtruth = fs::exists(gt, ec);
   if (d.has_groundtruth) {
-    auto g = read_groundtruth_csv(gt.string());
+    auto g = read_groundtruth_csv(gt.string(), limits);
     if (!g.ok()) return R::failure(g.error());
     d.groundtruth = std::move(g).value();
   }

@@ -19,8 +19,13 @@ struct LoopOptions {
   hal::TimeNs gyro_timeout_ns = 100 * hal::kNsPerMillisecond;
   hal::TimeNs encoder_timeout_ns = 250 * hal::kNsPerMillisecond;
   hal::TimeNs camera_timeout_ns = 3 * hal::kNsPerSecond;
-  hal::TimeNs max_time_skew_ns = 1 * hal::kNsPerSecond;  // |stamp - clock| beyond: a time jump
-  int frame_work_budget = 64;                            // pipeline work units per loop iteration
+  hal::TimeNs max_time_skew_ns = 1 * hal::kNsPerSecond;  // stamp this far behind the clock: a jump
+  hal::TimeNs max_lead_ns =
+      10 * hal::kNsPerMillisecond;                   // stamp this far ahead of the clock: a jump
+  hal::TimeNs max_span_ns = hal::kDefaultMaxSpanNs;  // events past start + span are refused
+  int frame_work_budget = 64;                        // pipeline work units per loop iteration
+  int image_width = 0;  // the calibrated image size; 0: any size within the capacity
+  int image_height = 0;
 };
 
 // The per-update diagnostics records, as the frame pipeline finishes each frame.
@@ -79,6 +84,10 @@ class Loop {
   void iterate(hal::TimeNs now);
   // Earliest time a task is due; `now` or earlier when frame work is pending.
   [[nodiscard]] hal::TimeNs next_deadline() const;
+  // The latest plausible event time: the start plus options.max_span_ns.
+  [[nodiscard]] hal::TimeNs span_end() const {
+    return hal::add_saturated(start_ns_, options_.max_span_ns);
+  }
   [[nodiscard]] bool frame_work_pending() const {
     return active_ != nullptr || pending_ != nullptr;
   }
@@ -122,6 +131,8 @@ class Loop {
   HealthObserver* observer_ = nullptr;
 
   hal::TimeNs start_ns_ = 0;
+  hal::TimeNs now_ns_ = 0;
+  std::uint32_t told_ = 0;  // bit per Reject: its first occurrence was told to the observer
   hal::TimeNs publish_period_ns_ = 0;
   hal::TimeNs frame_period_ns_ = 0;
   hal::TimeNs next_publish_ns_ = 0;
