@@ -75,7 +75,7 @@ Result<std::vector<hal::GyroSample>> read_gyro_csv(const std::string& path,
   std::vector<hal::GyroSample> out;
   std::vector<std::string> columns;
   Status s = read_csv(
-      path, CsvSpec{{"t_ns", "wz_rad_s"}, {"wx_rad_s", "wy_rad_s"}},
+      path, CsvSpec{{"t_ns", "wz_rad_s"}, {"wx_rad_s", "wy_rad_s"}, limits.warnings},
       [&](const CsvRow& row) -> std::string {
         hal::GyroSample g;
         std::string e =
@@ -108,7 +108,7 @@ Result<std::vector<hal::EncoderSample>> read_encoders_csv(const std::string& pat
   using R = Result<std::vector<hal::EncoderSample>>;
   SpanCheck span(limits);
   std::vector<hal::EncoderSample> out;
-  Status s = read_csv(path, CsvSpec{{"t_ns", "left_ticks", "right_ticks"}, {}},
+  Status s = read_csv(path, CsvSpec{{"t_ns", "left_ticks", "right_ticks"}, {}, limits.warnings},
                       [&](const CsvRow& row) -> std::string {
                         hal::EncoderSample e;
                         std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
@@ -130,26 +130,27 @@ Result<std::vector<CameraIndexRow>> read_camera_csv(const std::string& path,
   using R = Result<std::vector<CameraIndexRow>>;
   SpanCheck span(limits);
   std::vector<CameraIndexRow> out;
-  Status s =
-      read_csv(path, CsvSpec{{"t_ns", "filename"}, {}}, [&](const CsvRow& row) -> std::string {
-        CameraIndexRow c;
-        std::string err =
-            read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, c.t_ns);
-        if (!err.empty()) return err;
-        if (!span.keep(row, c.t_ns)) return {};
-        const std::string_view name = row.text(1);
-        if (name.empty()) return row.fail(1, "empty file name");
-        const bool parent = name == ".." || name.starts_with("../") || name.ends_with("/..") ||
-                            name.find("/../") != std::string_view::npos;
-        if (name.front() == '/' || parent) {
-          return row.fail(
-              1, "file name must be relative to cam0/data/, got \"" + std::string(name) + "\"");
-        }
-        c.filename = std::string(name);
-        c.line = row.line();
-        out.push_back(std::move(c));
-        return {};
-      });
+  Status s = read_csv(path, CsvSpec{{"t_ns", "filename"}, {}, limits.warnings},
+                      [&](const CsvRow& row) -> std::string {
+                        CameraIndexRow c;
+                        std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
+                                                    out.empty(), true, c.t_ns);
+                        if (!err.empty()) return err;
+                        if (!span.keep(row, c.t_ns)) return {};
+                        const std::string_view name = row.text(1);
+                        if (name.empty()) return row.fail(1, "empty file name");
+                        const bool parent = name == ".." || name.starts_with("../") ||
+                                            name.ends_with("/..") ||
+                                            name.find("/../") != std::string_view::npos;
+                        if (name.front() == '/' || parent) {
+                          return row.fail(1, "file name must be relative to cam0/data/, got \"" +
+                                                 std::string(name) + "\"");
+                        }
+                        c.filename = std::string(name);
+                        c.line = row.line();
+                        out.push_back(std::move(c));
+                        return {};
+                      });
   if (!s) return R::failure(s.error());
   return out;
 }
@@ -159,7 +160,7 @@ Result<std::vector<FeatureRow>> read_features_csv(const std::string& path,
   using R = Result<std::vector<FeatureRow>>;
   SpanCheck span(limits);
   std::vector<FeatureRow> out;
-  Status s = read_csv(path, CsvSpec{{"t_ns", "track_id", "u_px", "v_px"}, {}},
+  Status s = read_csv(path, CsvSpec{{"t_ns", "track_id", "u_px", "v_px"}, {}, limits.warnings},
                       [&](const CsvRow& row) -> std::string {
                         FeatureRow f;
                         std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
@@ -186,29 +187,29 @@ Result<std::vector<GroundTruthPose>> read_groundtruth_csv(const std::string& pat
   using R = Result<std::vector<GroundTruthPose>>;
   SpanCheck span(limits);
   std::vector<GroundTruthPose> out;
-  Status s =
-      read_csv(path, CsvSpec{{"t_ns", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz"}, {}},
-               [&](const CsvRow& row) -> std::string {
-                 GroundTruthPose p;
-                 std::string err =
-                     read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, p.t_ns);
-                 if (!err.empty()) return err;
-                 if (!span.keep(row, p.t_ns)) return {};
-                 double v[7];
-                 for (std::size_t i = 0; i < 7; ++i) {
-                   auto x = row.number(i + 1);
-                   if (!x.ok()) return x.error();
-                   v[i] = *x;
-                 }
-                 const double n = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
-                 if (std::abs(n - 1.0) > 1e-3) {
-                   return row.fail(4, "quaternion norm " + format_double(n) + " is not 1");
-                 }
-                 p.position_m = {v[0], v[1], v[2]};
-                 p.orientation_wxyz = {v[3] / n, v[4] / n, v[5] / n, v[6] / n};
-                 out.push_back(p);
-                 return {};
-               });
+  Status s = read_csv(
+      path, CsvSpec{{"t_ns", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz"}, {}, limits.warnings},
+      [&](const CsvRow& row) -> std::string {
+        GroundTruthPose p;
+        std::string err =
+            read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, p.t_ns);
+        if (!err.empty()) return err;
+        if (!span.keep(row, p.t_ns)) return {};
+        double v[7];
+        for (std::size_t i = 0; i < 7; ++i) {
+          auto x = row.number(i + 1);
+          if (!x.ok()) return x.error();
+          v[i] = *x;
+        }
+        const double n = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
+        if (std::abs(n - 1.0) > 1e-3) {
+          return row.fail(4, "quaternion norm " + format_double(n) + " is not 1");
+        }
+        p.position_m = {v[0], v[1], v[2]};
+        p.orientation_wxyz = {v[3] / n, v[4] / n, v[5] / n, v[6] / n};
+        out.push_back(p);
+        return {};
+      });
   if (!s) return R::failure(s.error());
   return out;
 }
@@ -217,18 +218,21 @@ Result<std::vector<LiftRow>> read_lift_csv(const std::string& path, const RowLim
   using R = Result<std::vector<LiftRow>>;
   SpanCheck span(limits);
   std::vector<LiftRow> out;
-  Status s = read_csv(path, CsvSpec{{"t_ns", "lifted"}, {}}, [&](const CsvRow& row) -> std::string {
-    LiftRow l;
-    std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, l.t_ns);
-    if (!err.empty()) return err;
-    if (!span.keep(row, l.t_ns)) return {};
-    auto v = row.integer(1);
-    if (!v.ok()) return v.error();
-    if (*v != 0 && *v != 1) return row.fail(1, "expected 0 or 1, got " + std::to_string(*v));
-    l.lifted = *v == 1;
-    out.push_back(l);
-    return {};
-  });
+  Status s = read_csv(path, CsvSpec{{"t_ns", "lifted"}, {}, limits.warnings},
+                      [&](const CsvRow& row) -> std::string {
+                        LiftRow l;
+                        std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
+                                                    out.empty(), true, l.t_ns);
+                        if (!err.empty()) return err;
+                        if (!span.keep(row, l.t_ns)) return {};
+                        auto v = row.integer(1);
+                        if (!v.ok()) return v.error();
+                        if (*v != 0 && *v != 1)
+                          return row.fail(1, "expected 0 or 1, got " + std::to_string(*v));
+                        l.lifted = *v == 1;
+                        out.push_back(l);
+                        return {};
+                      });
   if (!s) return R::failure(s.error());
   return out;
 }
