@@ -89,14 +89,6 @@ std::optional<Args> parse_args(int argc, char** argv) {
   return a;
 }
 
-// The loop's options with the calibrated image size, which frames must have.
-LoopOptions loop_options(const FirmwareConfig& config) {
-  LoopOptions o = config.loop;
-  o.image_width = config.calibration.camera.width;
-  o.image_height = config.calibration.camera.height;
-  return o;
-}
-
 void print_messages(const ConfigResult& r) {
   for (const auto& w : r.warnings) {
     std::fprintf(stderr, "cleanslam: warning: %s\n", w.c_str());
@@ -486,6 +478,13 @@ int run_normal(const Args& args) {
 }
 
 }  // namespace
+
+LoopOptions loop_options(const FirmwareConfig& config) {
+  LoopOptions o = config.loop;
+  o.image_width = config.calibration.camera.width;
+  o.image_height = config.calibration.camera.height;
+  return o;
+}
 
 void print_summary(const Loop& loop, std::FILE* out) {
   const LoopStats& s = loop.stats();

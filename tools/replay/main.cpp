@@ -112,7 +112,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   firmware::FirmwareConfig config = cfg.config;
-  auto source = sim_hal::DatasetSource::open(dataset);
+  sim_hal::DatasetSource::Options source_options;
+  source_options.load.max_span_ns = config.loop.max_span_ns;
+  auto source = sim_hal::DatasetSource::open(dataset, source_options);
   if (!source.ok()) {
     return fail(source.error());
   }
@@ -128,7 +130,7 @@ int main(int argc, char** argv) {
     return fail(out + ": cannot create: " + ec.message());
   }
   const std::unique_ptr<firmware::Estimator> estimator = firmware::make_estimator(config);
-  firmware::Loop loop(config.loop, *estimator);
+  firmware::Loop loop(firmware::loop_options(config), *estimator);
   loop.add_source(&source.value());
   std::string error;
   firmware::TumWriter trajectory;
