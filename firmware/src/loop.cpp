@@ -45,14 +45,14 @@ void Loop::add_frame_sinks(hal::PoseSink* estimate, hal::PoseSink* dead_reckonin
   }
 }
 
-void Loop::count(Reject r, std::uint64_t n) {
+void Loop::count(Reject r, std::uint64_t n, bool told) {
   if (n == 0) {
     return;
   }
   stats_.rejects.add(r, n);
   rejected_since_publish_ = true;
   const std::uint32_t bit = 1U << static_cast<unsigned>(r);
-  if ((told_ & bit) == 0) {
+  if (!told && (told_ & bit) == 0) {
     told_ |= bit;
     if (observer_ != nullptr) {
       observer_->first_reject(now_ns_, r);

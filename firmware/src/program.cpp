@@ -160,9 +160,9 @@ void report_log_source(const sim_hal::LogSource& source, const std::string& name
                  name.c_str(), static_cast<unsigned long long>(n - source.messages().size()));
   }
   if (loop != nullptr) {
-    loop->count(Reject::kCorruptRecord, source.payload_defects());
-    loop->count(Reject::kTimeJump, source.stamps_refused());
-    loop->count(Reject::kOutOfOrder, source.out_of_place());
+    loop->count(Reject::kCorruptRecord, source.payload_defects(), true);
+    loop->count(Reject::kTimeJump, source.stamps_refused(), true);
+    loop->count(Reject::kOutOfOrder, source.out_of_place(), true);
   }
 }
 
@@ -240,7 +240,7 @@ void report_log_defects(const sim_hal::LogReader& reader, Loop* loop) {
                  reader.name().c_str(), reader.truncated_at());
   }
   if (loop != nullptr) {
-    loop->count(Reject::kCorruptRecord, reader.total_defects());
+    loop->count(Reject::kCorruptRecord, reader.total_defects(), true);
   }
 }
 
@@ -354,6 +354,16 @@ int run_normal(const Args& args) {
         return 2;
       }
       (void)config_hash_checked(*log, false);
+      if (!log->join_error().empty()) {
+        std::fprintf(stderr, "cleanslam: warning: %s: %s\n", log->name().c_str(),
+                     log->join_error().c_str());
+      }
+      if (log->file_index() > 0) {
+        std::fprintf(stderr,
+                     "cleanslam: warning: %s is file %u of a rotated recording: the run starts "
+                     "afresh at its first record, not where the recording was\n",
+                     log->name().c_str(), log->file_index());
+      }
       if (log->has_config()) {
         const ConfigResult recorded = parse_config(std::string(log->config_text()), "", {});
         if (recorded.ok()) {
@@ -460,7 +470,7 @@ int run_normal(const Args& args) {
     report_log_source(*log_source, config.source.path, &loop);
   }
   if (dataset != nullptr) {
-    loop.count(Reject::kTimeJump, dataset->dataset().rows_refused);
+    loop.count(Reject::kTimeJump, dataset->dataset().rows_refused, true);
     for (const std::string& m : dataset->image_error_messages()) {
       std::fprintf(stderr, "cleanslam: warning: %s\n", m.c_str());
     }

@@ -98,7 +98,9 @@ class Loop {
   [[nodiscard]] const LoopStats& stats() const { return stats_; }
   [[nodiscard]] const Estimator& estimator() const { return estimator_; }
   [[nodiscard]] std::uint32_t health() const { return health_; }
-  void count(Reject r, std::uint64_t n = 1);
+  // Counts rejected inputs; the first of each reason is told to the health observer unless the
+  // caller has told them already (`told`).
+  void count(Reject r, std::uint64_t n = 1, bool told = false);
 
  private:
   struct FrameSlot {
