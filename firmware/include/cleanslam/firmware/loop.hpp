@@ -19,12 +19,13 @@ struct LoopOptions {
   hal::TimeNs gyro_timeout_ns = 100 * hal::kNsPerMillisecond;
   hal::TimeNs encoder_timeout_ns = 250 * hal::kNsPerMillisecond;
   hal::TimeNs camera_timeout_ns = 3 * hal::kNsPerSecond;
-  hal::TimeNs max_time_skew_ns = 1 * hal::kNsPerSecond;  // stamp this far behind the clock: a jump
-  hal::TimeNs max_lead_ns =
-      10 * hal::kNsPerMillisecond;                   // stamp this far ahead of the clock: a jump
-  hal::TimeNs max_span_ns = hal::kDefaultMaxSpanNs;  // events past start + span are refused
-  int frame_work_budget = 64;                        // pipeline work units per loop iteration
-  int image_width = 0;  // the calibrated image size; 0: any size within the capacity
+  // A sample stamped more than max_time_skew_ns behind the clock, more than max_lead_ns ahead
+  // of it, or past the start plus max_span_ns is a time jump.
+  hal::TimeNs max_time_skew_ns = 1 * hal::kNsPerSecond;
+  hal::TimeNs max_lead_ns = 10 * hal::kNsPerMillisecond;
+  hal::TimeNs max_span_ns = hal::kDefaultMaxSpanNs;
+  int frame_work_budget = 64;  // pipeline work units per loop iteration
+  int image_width = 0;         // the calibrated image size; 0: any size within the capacity
   int image_height = 0;
 };
 
