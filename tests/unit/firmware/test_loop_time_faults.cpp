@@ -23,7 +23,7 @@ using hal::SensorEvent;
 constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
 constexpr hal::TimeNs kS = hal::kNsPerSecond;
 constexpr hal::TimeNs kYear = 365 * 86'400 * kS;
-constexpr hal::TimeNs k9e18 = 9'000'000'000'000'000'000;
+constexpr hal::TimeNs kNineE18 = 9'000'000'000'000'000'000;
 
 auto never_silent() {
   return [](SensorEvent::Kind, hal::TimeNs) { return false; };
@@ -64,7 +64,7 @@ TEST(LoopTimeFaults, AnEncoderSampleStampedAheadCostsThatSampleOnly) {
 }
 
 TEST(LoopTimeFaults, ClocksAtTheEndsOfTimeNeitherOverflowNorPublishForever) {
-  for (const hal::TimeNs jump : {kYear, k9e18, hal::kTimeMax}) {
+  for (const hal::TimeNs jump : {kYear, kNineE18, hal::kTimeMax}) {
     test::FakeEstimator est;
     test::ScriptedSource src;
     test::CollectingSink sink;
@@ -105,7 +105,7 @@ TEST(LoopTimeFaults, ALoopStartedAtTheMaximumTimeStillRuns) {
 }
 
 TEST(LoopTimeFaults, AnEventPastTheRunsSpanIsRefusedWithoutHoldingTheRun) {
-  for (const hal::TimeNs far : {2 * kS + 2 * 86'400 * kS, k9e18, hal::kTimeMax}) {
+  for (const hal::TimeNs far : {2 * kS + 2 * 86'400 * kS, kNineE18, hal::kTimeMax}) {
     test::FakeEstimator est;
     test::ScriptedSource src;
     test::CollectingSink sink;

@@ -25,11 +25,11 @@ TEST(TickDelta, AcrossPositiveWrapAround) {
 
 TEST(Time, SaturatingArithmeticAtEveryBoundary) {
   constexpr TimeNs kYear = 365 * 86'400 * kNsPerSecond;
-  constexpr TimeNs k9e18 = 9'000'000'000'000'000'000;
+  constexpr TimeNs kNineE18 = 9'000'000'000'000'000'000;
   EXPECT_EQ(add_saturated(kTimeMax, 1), kTimeMax);
   EXPECT_EQ(add_saturated(kTimeMax, kTimeMax), kTimeMax);
-  EXPECT_EQ(add_saturated(k9e18, k9e18), kTimeMax);
-  EXPECT_EQ(add_saturated(k9e18, kYear), k9e18 + kYear);  // still fits
+  EXPECT_EQ(add_saturated(kNineE18, kNineE18), kTimeMax);
+  EXPECT_EQ(add_saturated(kNineE18, kYear), kNineE18 + kYear);  // still fits
   EXPECT_EQ(add_saturated(kTimeMax - kYear, kYear), kTimeMax);
   EXPECT_EQ(add_saturated(kTimeMin, -1), kTimeMin);
   EXPECT_EQ(add_saturated(kTimeMin, kTimeMax), -1);
@@ -37,7 +37,7 @@ TEST(Time, SaturatingArithmeticAtEveryBoundary) {
   EXPECT_EQ(sub_saturated(kTimeMax, kTimeMin), kTimeMax);
   EXPECT_EQ(sub_saturated(kTimeMin, kTimeMax), kTimeMin);
   EXPECT_EQ(sub_saturated(0, kTimeMin), kTimeMax);
-  EXPECT_EQ(sub_saturated(-k9e18, k9e18), kTimeMin);
+  EXPECT_EQ(sub_saturated(-kNineE18, kNineE18), kTimeMin);
   EXPECT_EQ(sub_saturated(kYear, 2 * kYear), -kYear);
   EXPECT_EQ(add_saturated(1, 2), 3);
   EXPECT_EQ(sub_saturated(1, 2), -1);
