@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <numeric>
@@ -90,7 +91,7 @@ void LogReader::index() {
   std::uint32_t last_index = file_index_;
   while (pos < n) {
     if (n - pos >= lf::kFileHeaderSize &&
-        std::equal(lf::kFileMagic.begin(), lf::kFileMagic.end(), bytes_.begin() + pos)) {
+        std::memcmp(lf::kFileMagic.data(), bytes_.data() + pos, lf::kFileMagic.size()) == 0) {
       // The next file of a rotated recording joined to this one.
       lf::ByteReader r(bytes_.data() + pos + lf::kFileMagic.size(), 8);
       const std::uint32_t version = r.u32();

@@ -104,8 +104,9 @@ bool contains(const std::string& s, const std::string& part) {
 }
 
 TEST(LogFaults, StampsPastTheSpanOrNegativeAreRefusedWithTheirOffset) {
-  for (const hal::TimeNs bad : {hal::kTimeMax, hal::TimeNs{9'000'000'000'000'000'000},
-                                hal::TimeNs{2 * kS + 365 * 86'400 * kS}, hal::kTimeMin}) {
+  for (const hal::TimeNs bad :
+       {hal::kTimeMax, hal::TimeNs{9'000'000'000'000'000'000},
+        hal::TimeNs{2 * kS + hal::TimeNs{365} * 86'400 * kS}, hal::kTimeMin}) {
     LogBuilder b;
     b.drive(1 * kS, 2 * kS, unaltered());
     const std::size_t at = b.gyro(bad);

@@ -22,7 +22,7 @@ using hal::SensorEvent;
 
 constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
 constexpr hal::TimeNs kS = hal::kNsPerSecond;
-constexpr hal::TimeNs kYear = 365 * 86'400 * kS;
+constexpr hal::TimeNs kYear = hal::TimeNs{365} * 86'400 * kS;
 constexpr hal::TimeNs kNineE18 = 9'000'000'000'000'000'000;
 
 auto never_silent() {
@@ -105,7 +105,7 @@ TEST(LoopTimeFaults, ALoopStartedAtTheMaximumTimeStillRuns) {
 }
 
 TEST(LoopTimeFaults, AnEventPastTheRunsSpanIsRefusedWithoutHoldingTheRun) {
-  for (const hal::TimeNs far : {2 * kS + 2 * 86'400 * kS, kNineE18, hal::kTimeMax}) {
+  for (const hal::TimeNs far : {2 * kS + hal::TimeNs{2} * 86'400 * kS, kNineE18, hal::kTimeMax}) {
     test::FakeEstimator est;
     test::ScriptedSource src;
     test::CollectingSink sink;

@@ -24,7 +24,7 @@ TEST(TickDelta, AcrossPositiveWrapAround) {
 }
 
 TEST(Time, SaturatingArithmeticAtEveryBoundary) {
-  constexpr TimeNs kYear = 365 * 86'400 * kNsPerSecond;
+  constexpr TimeNs kYear = TimeNs{365} * 86'400 * kNsPerSecond;
   constexpr TimeNs kNineE18 = 9'000'000'000'000'000'000;
   EXPECT_EQ(add_saturated(kTimeMax, 1), kTimeMax);
   EXPECT_EQ(add_saturated(kTimeMax, kTimeMax), kTimeMax);
