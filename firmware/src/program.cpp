@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstring>
+#include <filesystem>
 #include <optional>
 
 #include "cleanslam/drivers/robot_drivers.hpp"
@@ -205,19 +206,33 @@ bool replayable_alone(const sim_hal::LogReader& log, const std::string& path) {
   std::string base;
   const int k = rotation_suffix(path, base);
   std::string files;
+  std::string missing;
   for (int i = k + static_cast<int>(log.file_index()); i >= 1; --i) {
-    files += base + "." + std::to_string(i) + " ";
+    const std::string name = base + "." + std::to_string(i);
+    files += name + " ";
+    std::error_code ec;
+    if (missing.empty() && !std::filesystem::exists(name, ec)) {
+      missing = name;
+    }
   }
   files += base;
-  std::fprintf(
-      stderr,
-      "cleanslam: error: %s is file %u of a rotated recording (its header's file index; "
-      "0 is the file the run began in): it continues a run whose estimator state is not in "
-      "it, so its outputs cannot be reproduced alone. Join the files oldest first and "
-      "replay the join:\n  cat %s > joined.log && cleanslam --replay joined.log\n"
-      "(the recorder names them LOG, LOG.1, LOG.2, ... newest first; a file deleted by "
-      "rotation, recorder.max_files, cannot be replaced)\n",
-      path.c_str(), log.file_index(), files.c_str());
+  std::fprintf(stderr,
+               "cleanslam: error: %s is file %u of a rotated recording (its header's file index; "
+               "0 is the file the run began in): it continues a run whose estimator state is not "
+               "in it, so its outputs cannot be reproduced alone.\n",
+               path.c_str(), log.file_index());
+  if (!missing.empty()) {
+    std::fprintf(stderr,
+                 "cleanslam: %s, which the run's start needs, does not exist (deleted by "
+                 "rotation: recorder.max_files): this recording cannot be replayed bit for bit; "
+                 "--log runs it afresh from its first record\n",
+                 missing.c_str());
+    return false;
+  }
+  std::fprintf(stderr,
+               "cleanslam: join the files oldest first and replay the join:\n  cat %s > "
+               "joined.log && cleanslam --replay joined.log\n",
+               files.c_str());
   return false;
 }
 

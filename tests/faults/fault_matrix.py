@@ -309,6 +309,13 @@ def main():
         assert code == 0 and os.path.exists(rotated + ".1"), err
         return rotated
 
+    def lone_newest():
+        record_rotated()
+        out = os.path.join(WORK, "lone", "run.log")
+        os.makedirs(os.path.dirname(out), exist_ok=True)
+        shutil.copy(rotated, out)
+        return out
+
     def joined():
         record_rotated()
         out = os.path.join(WORK, "rotated", "joined.log")
@@ -364,8 +371,10 @@ def main():
              "replay", r"configuration record's hash \(0x[0-9a-f]+\) is not that of its text",
              code=2),
         Case("rotated log, later file alone", "refused", record_rotated, "replay",
-             r"run\.log is file 1 of a rotated recording.*\n.*cat \S*run\.log\.1 \S*run\.log "
+             r"run\.log is file 1 of a rotated recording[\s\S]*cat \S*run\.log\.1 \S*run\.log "
              r"> joined\.log", code=2),
+        Case("rotated log, first file deleted", "refused", lambda: lone_newest(), "replay",
+             r"lone/run\.log\.1, which the run's start needs, does not exist", code=2),
         Case("rotated log, files joined", "recovered", joined, "replay",
              r"output records reproduced bit for bit"),
         Case("3x3 frame in a log", "recovered", log_case("log_tiny", log_tiny_frame), "log",
