@@ -61,6 +61,9 @@ class Section {
   void error(const char* key, const std::string& message) {
     d_.errors.push_back(where(key) + ": " + message);
   }
+  void warning(const char* key, const std::string& message) {
+    d_.warnings.push_back(where(key) + ": " + message);
+  }
   void done() { m_.report_unknown_keys(); }
 
  private:
@@ -101,6 +104,9 @@ void read_calibration(Section c, hal::Calibration& cal) {
     cal.camera.pixel_noise = cam.number("pixel_noise", cal.camera.pixel_noise, lim::kPixelNoisePx);
     cal.camera.time_offset_s =
         cam.number("time_offset_s", cal.camera.time_offset_s, lim::kTimeOffsetS);
+    if (std::abs(cal.camera.time_offset_s) > lim::kPlausibleTimeOffsetS) {
+      cam.warning("time_offset_s", lim::implausible_time_offset(cal.camera.time_offset_s));
+    }
     cam.done();
   }
   {
@@ -210,6 +216,8 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.encoder_timeout_ns = seconds(l.number("encoder_timeout_s", 0.25, 0.001, 10.0));
     x.camera_timeout_ns = seconds(l.number("camera_timeout_s", 3.0, 0.01, 60.0));
     x.max_time_skew_ns = seconds(l.number("max_time_skew_s", 1.0, 0.001, 60.0));
+    x.max_lead_ns = seconds(l.number("max_lead_s", 0.01, 0.0, 60.0));
+    x.max_span_ns = seconds(l.number("max_span_s", 86400.0, 1.0, 3.0e7));
     x.frame_work_budget = l.integer("frame_work_budget", x.frame_work_budget, 1, 1 << 20);
     l.done();
   }
@@ -439,6 +447,8 @@ std::string config_text(const FirmwareConfig& c) {
     << "  encoder_timeout_s: " << secs(l.encoder_timeout_ns) << "\n"
     << "  camera_timeout_s: " << secs(l.camera_timeout_ns) << "\n"
     << "  max_time_skew_s: " << secs(l.max_time_skew_ns) << "\n"
+    << "  max_lead_s: " << secs(l.max_lead_ns) << "\n"
+    << "  max_span_s: " << secs(l.max_span_ns) << "\n"
     << "  frame_work_budget: " << l.frame_work_budget << "\n";
   const auto& so = c.source;
   const char* kind = so.kind == SourceSettings::Kind::kDrivers   ? "drivers"

@@ -18,6 +18,8 @@ const char* to_string(Reject r) {
       return "frame_superseded";
     case Reject::kBadFrame:
       return "bad_frame";
+    case Reject::kImageSize:
+      return "image_size";
     case Reject::kBadFeature:
       return "bad_feature";
     case Reject::kCorruptRecord:

@@ -2,6 +2,7 @@
 
 #include <utility>
 
+#include "cleanslam/firmware/summary_words.hpp"
 #include "cleanslam/hal/pose.hpp"
 #include "cleanslam/hal/time.hpp"
 
@@ -58,6 +59,11 @@ void HealthReport::health_changed(std::int64_t t_ns, std::uint32_t before, std::
       s.since_ns = -1;
     }
   }
+}
+
+void HealthReport::first_reject(std::int64_t t_ns, Reject r) {
+  std::fprintf(out_, "%s: t=%.3f s: input refused (%s): %s; later ones are counted\n", program_,
+               hal::to_seconds(t_ns), to_string(r), explain(r));
 }
 
 void HealthReport::finish(std::int64_t end_ns) {

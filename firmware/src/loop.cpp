@@ -9,6 +9,7 @@ namespace cleanslam::firmware {
 
 namespace {
 constexpr int kMaxEventsPerSourceAndIteration = 64;
+static_assert(kRejectCount <= 32, "Loop::told_ has a bit per reason");
 
 hal::TimeNs period_ns(double rate_hz) {
   return static_cast<hal::TimeNs>(std::llround(1e9 / rate_hz));
@@ -44,17 +45,25 @@ void Loop::add_frame_sinks(hal::PoseSink* estimate, hal::PoseSink* dead_reckonin
   }
 }
 
-void Loop::count(Reject r, std::uint64_t n) {
+void Loop::count(Reject r, std::uint64_t n, bool told) {
   if (n == 0) {
     return;
   }
   stats_.rejects.add(r, n);
   rejected_since_publish_ = true;
+  const std::uint32_t bit = 1U << static_cast<unsigned>(r);
+  if (!told && (told_ & bit) == 0) {
+    told_ |= bit;
+    if (observer_ != nullptr) {
+      observer_->first_reject(now_ns_, r);
+    }
+  }
 }
 
 void Loop::start(hal::TimeNs now) {
   start_ns_ = now;
-  next_publish_ns_ = now + publish_period_ns_;
+  now_ns_ = now;
+  next_publish_ns_ = hal::add_saturated(now, publish_period_ns_);
   if (recorder_ != nullptr) {
     recorder_->clock(now);
   }
@@ -69,6 +78,7 @@ void Loop::start(hal::TimeNs now) {
 
 void Loop::iterate(hal::TimeNs now) {
   ++stats_.iterations;
+  now_ns_ = now;
   if (recorder_ != nullptr) {
     recorder_->clock(now);
   }
@@ -76,8 +86,13 @@ void Loop::iterate(hal::TimeNs now) {
   for (hal::SensorSource* src : sources_) {
     for (int k = 0; k < kMaxEventsPerSourceAndIteration; ++k) {
       const hal::TimeNs due = src->next_event_time();
-      if (due > now || !src->read(ev)) {
+      const bool implausible = due > span_end();
+      if ((due > now && !implausible) || !src->read(ev)) {
         break;
+      }
+      if (implausible) {
+        count(Reject::kTimeJump);  // never due within the run: taken out so it blocks nothing
+        continue;
       }
       ingest(ev, now);
     }
@@ -87,13 +102,14 @@ void Loop::iterate(hal::TimeNs now) {
   run_frame_steps();
   if (now >= next_publish_ns_) {
     publish(now);
-    while (next_publish_ns_ <= now) {
-      next_publish_ns_ += publish_period_ns_;
-    }
+    const hal::TimeNs behind = hal::sub_saturated(now, next_publish_ns_);
+    next_publish_ns_ = hal::add_saturated(
+        next_publish_ns_,
+        hal::add_saturated(behind - behind % publish_period_ns_, publish_period_ns_));
   }
   if (notifier_ != nullptr && next_watchdog_ns_ >= 0 && now >= next_watchdog_ns_) {
     notifier_->watchdog();
-    next_watchdog_ns_ = now + notifier_->watchdog_period_ns();
+    next_watchdog_ns_ = hal::add_saturated(now, notifier_->watchdog_period_ns());
   }
   if (recorder_ != nullptr) {
     const std::uint64_t dropped = recorder_->stats().dropped_buffer_full;
@@ -110,7 +126,7 @@ hal::TimeNs Loop::next_deadline() const {
   hal::TimeNs d = next_publish_ns_;
   const auto silence = [&](hal::TimeNs last, hal::TimeNs timeout, std::uint32_t flag) {
     if ((health_ & flag) == 0) {
-      d = std::min(d, (last >= 0 ? last : start_ns_) + timeout + 1);
+      d = std::min(d, hal::add_saturated(last >= 0 ? last : start_ns_, timeout + 1));
     }
   };
   silence(last_gyro_ns_, options_.gyro_timeout_ns, hal::kGyroSilent);
@@ -127,7 +143,8 @@ bool Loop::check_time(hal::TimeNs t, hal::TimeNs last, hal::TimeNs now) {
     count(Reject::kOutOfOrder);
     return false;
   }
-  if (t > now + options_.max_time_skew_ns || t < now - options_.max_time_skew_ns) {
+  if (t > hal::add_saturated(now, options_.max_lead_ns) ||
+      t < hal::sub_saturated(now, options_.max_time_skew_ns) || t > span_end()) {
     count(Reject::kTimeJump);
     return false;
   }
@@ -208,11 +225,16 @@ void Loop::ingest_frame(const hal::CameraFrame& f, hal::TimeNs now) {
     count(Reject::kBadFrame);
     return;
   }
+  if (image && options_.image_width > 0 &&
+      (f.image.width != options_.image_width || f.image.height != options_.image_height)) {
+    count(Reject::kImageSize);
+    return;
+  }
   if (lifted_) {
     return;
   }
-  if (last_accepted_frame_ns_ >= 0 &&
-      f.t_ns - last_accepted_frame_ns_ < frame_period_ns_ - frame_period_ns_ / 10) {
+  if (last_accepted_frame_ns_ >= 0 && hal::sub_saturated(f.t_ns, last_accepted_frame_ns_) <
+                                          frame_period_ns_ - frame_period_ns_ / 10) {
     count(Reject::kFrameRate);
     return;
   }
@@ -344,7 +366,7 @@ void Loop::publish(hal::TimeNs now) {
 
 void Loop::update_health(hal::TimeNs now) {
   const auto silent = [&](hal::TimeNs last, hal::TimeNs timeout) {
-    return now - (last >= 0 ? last : start_ns_) > timeout;
+    return hal::sub_saturated(now, last >= 0 ? last : start_ns_) > timeout;
   };
   std::uint32_t h = hal::kHealthOk;
   if (silent(last_gyro_ns_, options_.gyro_timeout_ns)) {

@@ -123,6 +123,93 @@ void print_messages(const ConfigResult& r) {
   }
 }
 
+// What a log source skipped while replaying, and why.
+void report_log_source(const readers::LogSource& source, const std::string& name, Loop* loop) {
+  for (const std::string& m : source.messages()) {
+    std::fprintf(stderr, "cleanslam: warning: %s\n", m.c_str());
+  }
+  const std::uint64_t n =
+      source.payload_defects() + source.stamps_refused() + source.out_of_place();
+  if (n > source.messages().size()) {
+    std::fprintf(stderr, "cleanslam: warning: %s: %llu more record(s) skipped the same ways\n",
+                 name.c_str(), static_cast<unsigned long long>(n - source.messages().size()));
+  }
+  if (loop != nullptr) {
+    loop->count(Reject::kCorruptRecord, source.payload_defects(), true);
+    loop->count(Reject::kTimeJump, source.stamps_refused(), true);
+    loop->count(Reject::kOutOfOrder, source.out_of_place(), true);
+  }
+}
+
+// The first file's configuration record is what a replay runs with: it must be the recorded one.
+bool config_hash_checked(const readers::LogReader& reader, bool fatal) {
+  if (!reader.has_config() || reader.config_hash_matches()) {
+    return true;
+  }
+  std::fprintf(stderr,
+               "cleanslam: %s: %s: the configuration record's hash (0x%016llx) is not that of its "
+               "text: the configuration was altered after recording%s\n",
+               fatal ? "error" : "warning", reader.name().c_str(),
+               static_cast<unsigned long long>(reader.config_hash()),
+               fatal ? "; a replay with it would not be the recorded run" : "");
+  return !fatal;
+}
+
+// Suffix k of a rotated log's name (LOG.k), or 0.
+int rotation_suffix(const std::string& path, std::string& base) {
+  const std::size_t dot = path.find_last_of('.');
+  base = path;
+  if (dot == std::string::npos || dot + 1 == path.size() ||
+      path.find_first_not_of("0123456789", dot + 1) != std::string::npos || path.size() - dot > 6) {
+    return 0;
+  }
+  base = path.substr(0, dot);
+  return std::stoi(path.substr(dot + 1));
+}
+
+// A replay must begin where the run began: in the file of index 0, and go on in order.
+bool replayable_alone(const readers::LogReader& log, const std::string& path) {
+  if (!log.join_error().empty()) {
+    std::fprintf(stderr, "cleanslam: error: %s: %s: cannot replay\n", path.c_str(),
+                 log.join_error().c_str());
+    return false;
+  }
+  if (log.file_index() == 0) {
+    return true;
+  }
+  std::string base;
+  const int k = rotation_suffix(path, base);
+  std::string files;
+  std::string missing;
+  for (int i = k + static_cast<int>(log.file_index()); i >= 1; --i) {
+    const std::string name = base + "." + std::to_string(i);
+    files += name + " ";
+    std::error_code ec;
+    if (missing.empty() && !std::filesystem::exists(name, ec)) {
+      missing = name;
+    }
+  }
+  files += base;
+  std::fprintf(stderr,
+               "cleanslam: error: %s is file %u of a rotated recording (its header's file index; "
+               "0 is the file the run began in): it continues a run whose estimator state is not "
+               "in it, so its outputs cannot be reproduced alone.\n",
+               path.c_str(), log.file_index());
+  if (!missing.empty()) {
+    std::fprintf(stderr,
+                 "cleanslam: %s, which the run's start needs, does not exist (deleted by "
+                 "rotation: recorder.max_files): this recording cannot be replayed bit for bit; "
+                 "--log runs it afresh from its first record\n",
+                 missing.c_str());
+    return false;
+  }
+  std::fprintf(stderr,
+               "cleanslam: join the files oldest first and replay the join:\n  cat %s > "
+               "joined.log && cleanslam --replay joined.log\n",
+               files.c_str());
+  return false;
+}
+
 void report_log_defects(const readers::LogReader& reader, Loop* loop) {
   if (reader.total_defects() == 0) {
     return;
@@ -142,7 +229,7 @@ void report_log_defects(const readers::LogReader& reader, Loop* loop) {
                  reader.name().c_str(), reader.truncated_at());
   }
   if (loop != nullptr) {
-    loop->count(Reject::kCorruptRecord, reader.total_defects());
+    loop->count(Reject::kCorruptRecord, reader.total_defects(), true);
   }
 }
 
@@ -155,6 +242,9 @@ int run_replay(const Args& args) {
   if (!original.has_config()) {
     std::fprintf(stderr, "cleanslam: error: %s: no configuration record: cannot replay\n",
                  args.replay_log.c_str());
+    return 2;
+  }
+  if (!config_hash_checked(original, true) || !replayable_alone(original, args.replay_log)) {
     return 2;
   }
   if (!args.sets.empty() || !args.config_path.empty()) {
@@ -176,8 +266,9 @@ int run_replay(const Args& args) {
   }
   report_log_defects(original, nullptr);
   const std::unique_ptr<Estimator> estimator = make_estimator(cfg.config);
-  Loop loop(cfg.config.loop, *estimator);
-  readers::LogSource source(original, readers::LogSource::Pacing::kRecordedTicks);
+  Loop loop(loop_options(cfg.config), *estimator);
+  readers::LogSource source(original, readers::LogSource::Pacing::kRecordedTicks,
+                            cfg.config.loop.max_span_ns);
   loop.add_source(&source);
   Recorder recorder;
   RecorderOptions ro = cfg.config.recorder;
@@ -194,6 +285,7 @@ int run_replay(const Args& args) {
   StopSignals signals;
   run_recorded(loop, clock, source, &signals);
   recorder.close();
+  report_log_source(source, args.replay_log, nullptr);
   readers::LogReader replayed;
   if (!replayed.open(ro.path)) {
     std::fprintf(stderr, "cleanslam: error: %s\n", replayed.error().c_str());
@@ -221,10 +313,14 @@ int run_normal(const Args& args) {
   FirmwareConfig config = cfg.config;
   std::unique_ptr<hal::SensorSource> source;
   std::optional<readers::LogReader> log;
+  const readers::DatasetSource* dataset = nullptr;
+  const readers::LogSource* log_source = nullptr;
   std::unique_ptr<drivers::RobotDrivers> robot;
   switch (config.source.kind) {
     case SourceSettings::Kind::kDataset: {
-      auto ds = readers::DatasetSource::open(config.source.path);
+      readers::DatasetSource::Options options;
+      options.load.max_span_ns = config.loop.max_span_ns;
+      auto ds = readers::DatasetSource::open(config.source.path, options);
       if (!ds.ok()) {
         std::fprintf(stderr, "cleanslam: error: %s\n", ds.error().c_str());
         return 2;
@@ -235,7 +331,9 @@ int run_normal(const Args& args) {
       if (config.calibration_from_dataset) {
         config.calibration = ds->calibration();
       }
-      source = std::make_unique<readers::DatasetSource>(std::move(ds.value()));
+      auto owned = std::make_unique<readers::DatasetSource>(std::move(ds.value()));
+      dataset = owned.get();
+      source = std::move(owned);
       break;
     }
     case SourceSettings::Kind::kLog: {
@@ -244,13 +342,27 @@ int run_normal(const Args& args) {
         std::fprintf(stderr, "cleanslam: error: %s\n", log->error().c_str());
         return 2;
       }
+      (void)config_hash_checked(*log, false);
+      if (!log->join_error().empty()) {
+        std::fprintf(stderr, "cleanslam: warning: %s: %s\n", log->name().c_str(),
+                     log->join_error().c_str());
+      }
+      if (log->file_index() > 0) {
+        std::fprintf(stderr,
+                     "cleanslam: warning: %s is file %u of a rotated recording: the run starts "
+                     "afresh at its first record, not where the recording was\n",
+                     log->name().c_str(), log->file_index());
+      }
       if (log->has_config()) {
         const ConfigResult recorded = parse_config(std::string(log->config_text()), "", {});
         if (recorded.ok()) {
           config.calibration = recorded.config.calibration;
         }
       }
-      source = std::make_unique<readers::LogSource>(*log, readers::LogSource::Pacing::kEventTime);
+      auto owned = std::make_unique<readers::LogSource>(
+          *log, readers::LogSource::Pacing::kEventTime, config.loop.max_span_ns);
+      log_source = owned.get();
+      source = std::move(owned);
       break;
     }
     case SourceSettings::Kind::kDrivers: {
@@ -282,7 +394,7 @@ int run_normal(const Args& args) {
     }
   }
   const std::unique_ptr<Estimator> estimator = make_estimator(config);
-  Loop loop(config.loop, *estimator);
+  Loop loop(loop_options(config), *estimator);
   if (robot) {
     for (int i = 0; i < robot->source_count(); ++i) {
       loop.add_source(robot->sources()[i]);
@@ -348,6 +460,20 @@ int run_normal(const Args& args) {
     end = run_virtual(loop, clock, config.source.realtime, &signals);
   }
   recorder.close();
+  if (log_source != nullptr) {
+    report_log_source(*log_source, config.source.path, &loop);
+  }
+  if (dataset != nullptr) {
+    loop.count(Reject::kTimeJump, dataset->dataset().rows_refused, true);
+    for (const std::string& m : dataset->image_error_messages()) {
+      std::fprintf(stderr, "cleanslam: warning: %s\n", m.c_str());
+    }
+    const auto told = static_cast<int>(dataset->image_error_messages().size());
+    if (dataset->image_errors() > told) {
+      std::fprintf(stderr, "cleanslam: warning: %s: %d more image(s) could not be read\n",
+                   config.source.path.c_str(), dataset->image_errors() - told);
+    }
+  }
   print_summary(loop, stderr);
   if (end == RunEnd::kStopped) {
     std::fprintf(stderr, "cleanslam: stopped by signal, outputs flushed\n");
@@ -356,6 +482,13 @@ int run_normal(const Args& args) {
 }
 
 }  // namespace
+
+LoopOptions loop_options(const FirmwareConfig& config) {
+  LoopOptions o = config.loop;
+  o.image_width = config.calibration.camera.width;
+  o.image_height = config.calibration.camera.height;
+  return o;
+}
 
 void print_summary(const Loop& loop, std::FILE* out) {
   const LoopStats& s = loop.stats();

@@ -39,14 +39,14 @@ bool Recorder::open(const RecorderOptions& options, std::string_view config_text
   size_ = 0;
   frames_seen_ = 0;
   stats_ = RecorderStats{};
-  if (!open_file()) {
+  if (!open_file(0)) {
     error = options_.path + ": cannot create the log: " + std::strerror(errno);
     return false;
   }
   return true;
 }
 
-bool Recorder::open_file() {
+bool Recorder::open_file(std::uint32_t file_index) {
   fd_ = ::open(names_[0].c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) {
     return false;
@@ -56,7 +56,7 @@ bool Recorder::open_file() {
   rotating_ = true;
   std::uint8_t header[lf::kFileHeaderSize];
   lf::ByteWriter w(header, sizeof header);
-  lf::write_file_header(w);
+  lf::write_file_header(w, file_index);
   push(header, w.size());
   file_bytes_ += w.size();
   const std::uint64_t hash = lf::fnv1a64(config_text_.data(), config_text_.size());
@@ -193,7 +193,7 @@ void Recorder::rotate() {
       ::rename(names_[i - 1].c_str(), names_[i].c_str());
     }
   }
-  if (!open_file()) {
+  if (!open_file(static_cast<std::uint32_t>(stats_.rotations + 1))) {
     ++stats_.write_errors;
   }
   ++stats_.rotations;

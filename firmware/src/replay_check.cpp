@@ -20,23 +20,10 @@ std::vector<readers::LogRecordRef> outputs(const readers::LogReader& r) {
   return out;
 }
 
-const char* type_name(lf::RecordType t) {
-  switch (t) {
-    case lf::RecordType::kPose:
-      return "pose";
-    case lf::RecordType::kUpdate:
-      return "update";
-    case lf::RecordType::kFusion:
-      return "fusion";
-    default:
-      return "record";
-  }
-}
-
 std::string describe(const readers::LogReader& r, const readers::LogRecordRef& rec) {
   std::ostringstream s;
   lf::ByteReader p = r.payload(rec);
-  s << type_name(rec.type) << " at offset " << rec.offset << " (t_ns " << p.i64() << ")";
+  s << lf::to_string(rec.type) << " at offset " << rec.offset << " (t_ns " << p.i64() << ")";
   return s.str();
 }
 

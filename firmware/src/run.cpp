@@ -137,12 +137,14 @@ RunEnd run_virtual(Loop& loop, VirtualClock& clock, bool realtime, const StopSig
       break;
     }
     hal::TimeNs t = loop.next_deadline();
-    if (event >= 0) {
+    if (event > loop.span_end()) {
+      t = clock.now();  // the loop refuses an event past the run's span at once
+    } else if (event >= 0) {
       t = std::min(t, event);
     }
     t = std::max(t, clock.now());
     if (realtime) {
-      const hal::TimeNs due = wall0 + (t - t0);
+      const hal::TimeNs due = hal::add_saturated(wall0, hal::sub_saturated(t, t0));
       const hal::TimeNs now = wall.now();
       if (due > now) {
         const timespec ts = to_timespec(due - now);

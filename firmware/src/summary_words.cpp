@@ -41,13 +41,17 @@ const char* explain(Reject r) {
     case Reject::kOutOfOrder:
       return "samples whose time stamp is not after the previous one of the same sensor";
     case Reject::kTimeJump:
-      return "samples stamped further than loop.max_time_skew_s from the loop's clock";
+      return "samples stamped more than loop.max_time_skew_s behind the loop's clock, more than "
+             "loop.max_lead_s ahead of it, or past the run's span (loop.max_span_s)";
     case Reject::kNonFinite:
       return "samples with NaN or infinity";
     case Reject::kFrameRate:
       return "frames closer to the last one taken than loop.frame_rate_hz allows (by design)";
     case Reject::kFrameSuperseded:
       return "frames replaced by a newer one while the previous frame was still being processed";
+    case Reject::kImageSize:
+      return "frames whose image is not of the calibrated size (calibration.camera.width, "
+             "height)";
     case Reject::kBadFrame:
       return "frames larger than the capacity, or with neither an image nor features";
     case Reject::kBadFeature:

@@ -203,7 +203,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   firmware::FirmwareConfig config = cfg.config;
-  auto source = readers::DatasetSource::open(dataset);
+  readers::DatasetSource::Options source_options;
+  source_options.load.max_span_ns = config.loop.max_span_ns;
+  auto source = readers::DatasetSource::open(dataset, source_options);
   if (!source.ok()) {
     return fail(source.error());
   }
@@ -220,7 +222,7 @@ int main(int argc, char** argv) {
     return fail(s.error());
   }
   const std::unique_ptr<firmware::Estimator> estimator = firmware::make_estimator(config);
-  firmware::Loop loop(config.loop, *estimator);
+  firmware::Loop loop(firmware::loop_options(config), *estimator);
   loop.add_source(&source.value());
   std::string error;
   firmware::TumWriter trajectory;

@@ -126,6 +126,13 @@ Status read_csv(const std::string& path, const CsvSpec& spec,
     ++line_no;
     const std::string_view body = trim(line);
     if (body.empty()) continue;
+    if (in.eof()) {
+      const std::string cut = path + ":" + std::to_string(line_no) +
+                              ": the last line has no line end: the file was cut short";
+      if (spec.warnings == nullptr) return Status::failure(cut);
+      spec.warnings->push_back(cut + "; its last row is skipped");
+      break;
+    }
     split_csv_line(body, fields);
     CsvRow row(path, line_no, columns, fields);
     if (fields.size() != columns.size()) {

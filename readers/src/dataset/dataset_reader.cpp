@@ -24,6 +24,36 @@ std::string read_time(const CsvRow& row, hal::TimeNs previous, bool first, bool 
   return {};
 }
 
+// Refuses rows stamped past the file's first row plus the span (RowLimits).
+class SpanCheck {
+ public:
+  explicit SpanCheck(const RowLimits& limits) : limits_(limits) {}
+  bool keep(const CsvRow& row, hal::TimeNs t) {
+    if (!have_first_) {
+      have_first_ = true;
+      end_ = hal::add_saturated(t, limits_.max_span_ns);
+    }
+    if (t <= end_) return true;
+    if (limits_.refused != nullptr) ++*limits_.refused;
+    if (limits_.warnings != nullptr && ++told_ <= kMaxTold) {
+      limits_.warnings->push_back(row.fail(
+          0, "time stamp " + std::to_string(t) + " is more than " +
+                 format_double(hal::to_seconds(limits_.max_span_ns)) +
+                 " s (loop.max_span_s) after the file's first row: row refused" +
+                 (told_ == kMaxTold ? " (later ones of this file are refused without a message)"
+                                    : "")));
+    }
+    return false;
+  }
+
+ private:
+  static constexpr int kMaxTold = 3;
+  const RowLimits& limits_;
+  int told_ = 0;
+  bool have_first_ = false;
+  hal::TimeNs end_ = 0;
+};
+
 // Tick counts are 32-bit counters; values written as unsigned (up to 2^32 - 1) wrap.
 std::string read_ticks(const CsvRow& row, std::size_t i, std::int32_t& out) {
   auto v = row.integer(i);
@@ -38,17 +68,20 @@ std::string read_ticks(const CsvRow& row, std::size_t i, std::int32_t& out) {
 
 }  // namespace
 
-Result<std::vector<hal::GyroSample>> read_gyro_csv(const std::string& path) {
+Result<std::vector<hal::GyroSample>> read_gyro_csv(const std::string& path,
+                                                   const RowLimits& limits) {
   using R = Result<std::vector<hal::GyroSample>>;
+  SpanCheck span(limits);
   std::vector<hal::GyroSample> out;
   std::vector<std::string> columns;
   Status s = read_csv(
-      path, CsvSpec{{"t_ns", "wz_rad_s"}, {"wx_rad_s", "wy_rad_s"}},
+      path, CsvSpec{{"t_ns", "wz_rad_s"}, {"wx_rad_s", "wy_rad_s"}, limits.warnings},
       [&](const CsvRow& row) -> std::string {
         hal::GyroSample g;
         std::string e =
             read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, g.t_ns);
         if (!e.empty()) return e;
+        if (!span.keep(row, g.t_ns)) return {};
         auto wz = row.number(1);
         if (!wz.ok()) return wz.error();
         g.wz_rad_s = *wz;
@@ -70,14 +103,17 @@ Result<std::vector<hal::GyroSample>> read_gyro_csv(const std::string& path) {
   return out;
 }
 
-Result<std::vector<hal::EncoderSample>> read_encoders_csv(const std::string& path) {
+Result<std::vector<hal::EncoderSample>> read_encoders_csv(const std::string& path,
+                                                          const RowLimits& limits) {
   using R = Result<std::vector<hal::EncoderSample>>;
+  SpanCheck span(limits);
   std::vector<hal::EncoderSample> out;
-  Status s = read_csv(path, CsvSpec{{"t_ns", "left_ticks", "right_ticks"}, {}},
+  Status s = read_csv(path, CsvSpec{{"t_ns", "left_ticks", "right_ticks"}, {}, limits.warnings},
                       [&](const CsvRow& row) -> std::string {
                         hal::EncoderSample e;
                         std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
                                                     out.empty(), true, e.t_ns);
+                        if (err.empty() && !span.keep(row, e.t_ns)) return {};
                         if (err.empty()) err = read_ticks(row, 1, e.left_ticks);
                         if (err.empty()) err = read_ticks(row, 2, e.right_ticks);
                         if (!err.empty()) return err;
@@ -89,41 +125,48 @@ Result<std::vector<hal::EncoderSample>> read_encoders_csv(const std::string& pat
   return out;
 }
 
-Result<std::vector<CameraIndexRow>> read_camera_csv(const std::string& path) {
+Result<std::vector<CameraIndexRow>> read_camera_csv(const std::string& path,
+                                                    const RowLimits& limits) {
   using R = Result<std::vector<CameraIndexRow>>;
+  SpanCheck span(limits);
   std::vector<CameraIndexRow> out;
-  Status s =
-      read_csv(path, CsvSpec{{"t_ns", "filename"}, {}}, [&](const CsvRow& row) -> std::string {
-        CameraIndexRow c;
-        std::string err =
-            read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, c.t_ns);
-        if (!err.empty()) return err;
-        const std::string_view name = row.text(1);
-        if (name.empty()) return row.fail(1, "empty file name");
-        const bool parent = name == ".." || name.starts_with("../") || name.ends_with("/..") ||
-                            name.find("/../") != std::string_view::npos;
-        if (name.front() == '/' || parent) {
-          return row.fail(
-              1, "file name must be relative to cam0/data/, got \"" + std::string(name) + "\"");
-        }
-        c.filename = std::string(name);
-        c.line = row.line();
-        out.push_back(std::move(c));
-        return {};
-      });
+  Status s = read_csv(path, CsvSpec{{"t_ns", "filename"}, {}, limits.warnings},
+                      [&](const CsvRow& row) -> std::string {
+                        CameraIndexRow c;
+                        std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
+                                                    out.empty(), true, c.t_ns);
+                        if (!err.empty()) return err;
+                        if (!span.keep(row, c.t_ns)) return {};
+                        const std::string_view name = row.text(1);
+                        if (name.empty()) return row.fail(1, "empty file name");
+                        const bool parent = name == ".." || name.starts_with("../") ||
+                                            name.ends_with("/..") ||
+                                            name.find("/../") != std::string_view::npos;
+                        if (name.front() == '/' || parent) {
+                          return row.fail(1, "file name must be relative to cam0/data/, got \"" +
+                                                 std::string(name) + "\"");
+                        }
+                        c.filename = std::string(name);
+                        c.line = row.line();
+                        out.push_back(std::move(c));
+                        return {};
+                      });
   if (!s) return R::failure(s.error());
   return out;
 }
 
-Result<std::vector<FeatureRow>> read_features_csv(const std::string& path) {
+Result<std::vector<FeatureRow>> read_features_csv(const std::string& path,
+                                                  const RowLimits& limits) {
   using R = Result<std::vector<FeatureRow>>;
+  SpanCheck span(limits);
   std::vector<FeatureRow> out;
-  Status s = read_csv(path, CsvSpec{{"t_ns", "track_id", "u_px", "v_px"}, {}},
+  Status s = read_csv(path, CsvSpec{{"t_ns", "track_id", "u_px", "v_px"}, {}, limits.warnings},
                       [&](const CsvRow& row) -> std::string {
                         FeatureRow f;
                         std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
                                                     out.empty(), false, f.t_ns);
                         if (!err.empty()) return err;
+                        if (!span.keep(row, f.t_ns)) return {};
                         auto id = row.integer(1);
                         if (!id.ok()) return id.error();
                         if (*id < 0) return row.fail(1, "track id must be non-negative");
@@ -139,49 +182,57 @@ Result<std::vector<FeatureRow>> read_features_csv(const std::string& path) {
   return out;
 }
 
-Result<std::vector<GroundTruthPose>> read_groundtruth_csv(const std::string& path) {
+Result<std::vector<GroundTruthPose>> read_groundtruth_csv(const std::string& path,
+                                                          const RowLimits& limits) {
   using R = Result<std::vector<GroundTruthPose>>;
+  SpanCheck span(limits);
   std::vector<GroundTruthPose> out;
-  Status s =
-      read_csv(path, CsvSpec{{"t_ns", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz"}, {}},
-               [&](const CsvRow& row) -> std::string {
-                 GroundTruthPose p;
-                 std::string err =
-                     read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, p.t_ns);
-                 if (!err.empty()) return err;
-                 double v[7];
-                 for (std::size_t i = 0; i < 7; ++i) {
-                   auto x = row.number(i + 1);
-                   if (!x.ok()) return x.error();
-                   v[i] = *x;
-                 }
-                 const double n = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
-                 if (std::abs(n - 1.0) > 1e-3) {
-                   return row.fail(4, "quaternion norm " + format_double(n) + " is not 1");
-                 }
-                 p.position_m = {v[0], v[1], v[2]};
-                 p.orientation_wxyz = {v[3] / n, v[4] / n, v[5] / n, v[6] / n};
-                 out.push_back(p);
-                 return {};
-               });
+  Status s = read_csv(
+      path, CsvSpec{{"t_ns", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz"}, {}, limits.warnings},
+      [&](const CsvRow& row) -> std::string {
+        GroundTruthPose p;
+        std::string err =
+            read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, p.t_ns);
+        if (!err.empty()) return err;
+        if (!span.keep(row, p.t_ns)) return {};
+        double v[7];
+        for (std::size_t i = 0; i < 7; ++i) {
+          auto x = row.number(i + 1);
+          if (!x.ok()) return x.error();
+          v[i] = *x;
+        }
+        const double n = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
+        if (std::abs(n - 1.0) > 1e-3) {
+          return row.fail(4, "quaternion norm " + format_double(n) + " is not 1");
+        }
+        p.position_m = {v[0], v[1], v[2]};
+        p.orientation_wxyz = {v[3] / n, v[4] / n, v[5] / n, v[6] / n};
+        out.push_back(p);
+        return {};
+      });
   if (!s) return R::failure(s.error());
   return out;
 }
 
-Result<std::vector<LiftRow>> read_lift_csv(const std::string& path) {
+Result<std::vector<LiftRow>> read_lift_csv(const std::string& path, const RowLimits& limits) {
   using R = Result<std::vector<LiftRow>>;
+  SpanCheck span(limits);
   std::vector<LiftRow> out;
-  Status s = read_csv(path, CsvSpec{{"t_ns", "lifted"}, {}}, [&](const CsvRow& row) -> std::string {
-    LiftRow l;
-    std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, l.t_ns);
-    if (!err.empty()) return err;
-    auto v = row.integer(1);
-    if (!v.ok()) return v.error();
-    if (*v != 0 && *v != 1) return row.fail(1, "expected 0 or 1, got " + std::to_string(*v));
-    l.lifted = *v == 1;
-    out.push_back(l);
-    return {};
-  });
+  Status s = read_csv(path, CsvSpec{{"t_ns", "lifted"}, {}, limits.warnings},
+                      [&](const CsvRow& row) -> std::string {
+                        LiftRow l;
+                        std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
+                                                    out.empty(), true, l.t_ns);
+                        if (!err.empty()) return err;
+                        if (!span.keep(row, l.t_ns)) return {};
+                        auto v = row.integer(1);
+                        if (!v.ok()) return v.error();
+                        if (*v != 0 && *v != 1)
+                          return row.fail(1, "expected 0 or 1, got " + std::to_string(*v));
+                        l.lifted = *v == 1;
+                        out.push_back(l);
+                        return {};
+                      });
   if (!s) return R::failure(s.error());
   return out;
 }
@@ -200,10 +251,11 @@ Result<Dataset> load_dataset(const std::string& folder, const LoadOptions& optio
   auto cal = read_sensors_yaml((root / "sensors.yaml").string(), &d.warnings);
   if (!cal.ok()) return R::failure(cal.error());
   d.calibration = *cal;
-  auto gyro = read_gyro_csv((root / "gyro.csv").string());
+  const RowLimits limits{options.max_span_ns, &d.warnings, &d.rows_refused};
+  auto gyro = read_gyro_csv((root / "gyro.csv").string(), limits);
   if (!gyro.ok()) return R::failure(gyro.error());
   d.gyro = std::move(gyro).value();
-  auto enc = read_encoders_csv((root / "encoders.csv").string());
+  auto enc = read_encoders_csv((root / "encoders.csv").string(), limits);
   if (!enc.ok()) return R::failure(enc.error());
   d.encoders = std::move(enc).value();
 
@@ -215,7 +267,7 @@ Result<Dataset> load_dataset(const std::string& folder, const LoadOptions& optio
     return R::failure(folder + ": neither cam0/data.csv nor features.csv found (one is required)");
   }
   if (d.has_camera) {
-    auto cam = read_camera_csv(cam_csv.string());
+    auto cam = read_camera_csv(cam_csv.string(), limits);
     if (!cam.ok()) return R::failure(cam.error());
     d.camera = std::move(cam).value();
     if (options.check_images) {
@@ -237,20 +289,20 @@ Result<Dataset> load_dataset(const std::string& folder, const LoadOptions& optio
     }
   }
   if (d.has_features) {
-    auto f = read_features_csv(features_csv.string());
+    auto f = read_features_csv(features_csv.string(), limits);
     if (!f.ok()) return R::failure(f.error());
     d.features = std::move(f).value();
   }
   const fs::path lift = root / "lift.csv";
   if (fs::exists(lift, ec)) {
-    auto l = read_lift_csv(lift.string());
+    auto l = read_lift_csv(lift.string(), limits);
     if (!l.ok()) return R::failure(l.error());
     d.lift = std::move(l).value();
   }
   const fs::path gt = root / "groundtruth.csv";
   d.has_groundtruth = fs::exists(gt, ec);
   if (d.has_groundtruth) {
-    auto g = read_groundtruth_csv(gt.string());
+    auto g = read_groundtruth_csv(gt.string(), limits);
     if (!g.ok()) return R::failure(g.error());
     d.groundtruth = std::move(g).value();
   }

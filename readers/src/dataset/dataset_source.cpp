@@ -47,14 +47,17 @@ Result<DatasetSource> DatasetSource::open(const std::string& folder, const Optio
 }
 
 hal::TimeNs DatasetSource::next_event_time() const {
+  if (exhausted()) return -1;
   hal::TimeNs t = kNever;
   if (next_gyro_ < dataset_.gyro.size()) t = std::min(t, dataset_.gyro[next_gyro_].t_ns);
   if (next_encoder_ < dataset_.encoders.size()) {
     t = std::min(t, dataset_.encoders[next_encoder_].t_ns);
   }
   if (next_lift_ < dataset_.lift.size()) t = std::min(t, dataset_.lift[next_lift_].t_ns);
-  if (next_frame_ < frames_.size()) t = std::min(t, frames_[next_frame_].t_ns + frame_offset_ns_);
-  return t == kNever ? -1 : t;
+  if (next_frame_ < frames_.size()) {
+    t = std::min(t, hal::add_saturated(frames_[next_frame_].t_ns, frame_offset_ns_));
+  }
+  return t;
 }
 
 bool DatasetSource::exhausted() const {
@@ -97,6 +100,11 @@ bool DatasetSource::read(hal::SensorEvent& out) {
     } else {
       ++image_errors_;
       last_error_ = s.error();
+      if (image_errors_ <= kMaxImageErrorsTold) {
+        image_error_messages_.push_back(
+            dataset_.folder + "/cam0/data.csv:" + std::to_string(row.line) +
+            ": filename: " + s.error() + ": the frame went on without its image");
+      }
     }
   }
   frame_features_.clear();

@@ -92,6 +92,13 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
     c.camera.time_offset_s = cam.optional_double("time_offset_s", 0.0);
     check(cam, "pixel_noise", lim::kPixelNoisePx);
     check(cam, "time_offset_s", lim::kTimeOffsetS);
+    if (std::abs(c.camera.time_offset_s) > lim::kPlausibleTimeOffsetS &&
+        lim::kTimeOffsetS.contains(c.camera.time_offset_s)) {
+      const yaml::Node* n = cam.node("time_offset_s");
+      diag.warnings.push_back((n != nullptr ? n->location.str() : file_name) + ": " +
+                              cam.path("time_offset_s") + ": " +
+                              lim::implausible_time_offset(c.camera.time_offset_s));
+    }
     cam.report_unknown_keys();
   }
   {

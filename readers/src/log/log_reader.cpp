@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <numeric>
@@ -45,7 +46,10 @@ bool LogReader::open_bytes(std::vector<std::uint8_t> bytes, const std::string& n
   defects_.fill(0);
   truncated_at_ = 0;
   has_config_ = false;
+  config_hash_matches_ = true;
   config_text_ = {};
+  files_joined_ = 1;
+  join_error_.clear();
   if (bytes_.size() < lf::kFileHeaderSize ||
       !std::equal(lf::kFileMagic.begin(), lf::kFileMagic.end(), bytes_.begin())) {
     error_ = name_ + ": not a cleanslam log (bad magic at offset 0)";
@@ -58,6 +62,7 @@ bool LogReader::open_bytes(std::vector<std::uint8_t> bytes, const std::string& n
              std::to_string(lf::kFormatVersion);
     return false;
   }
+  file_index_ = header.u32();
   index();
   return true;
 }
@@ -83,7 +88,26 @@ void LogReader::index() {
     }
     pos = n;
   };
+  std::uint32_t last_index = file_index_;
   while (pos < n) {
+    if (n - pos >= lf::kFileHeaderSize &&
+        std::memcmp(lf::kFileMagic.data(), bytes_.data() + pos, lf::kFileMagic.size()) == 0) {
+      // The next file of a rotated recording joined to this one.
+      lf::ByteReader r(bytes_.data() + pos + lf::kFileMagic.size(), 8);
+      const std::uint32_t version = r.u32();
+      const std::uint32_t index = r.u32();
+      if (join_error_.empty() && (version != lf::kFormatVersion || index != last_index + 1)) {
+        join_error_ = "at offset " + std::to_string(pos) + " a file with index " +
+                      std::to_string(index) + " (format version " + std::to_string(version) +
+                      ") follows the file with index " + std::to_string(last_index) +
+                      ": a file of the recording is missing or out of order";
+      }
+      last_index = index;
+      ++files_joined_;
+      pos += lf::kFileHeaderSize;
+      in_garbage = false;
+      continue;
+    }
     if (n - pos < lf::kRecordHeaderSize) {
       lf::ByteReader r(bytes_.data() + pos, n - pos);
       if (n - pos >= 4 && r.u32() != lf::kRecordSync) {
@@ -129,6 +153,13 @@ void LogReader::index() {
     }
     in_garbage = false;
     records_.push_back(LogRecordRef{pos, h.type, h.length});
+    if (h.type == lf::RecordType::kConfig && has_config_ && join_error_.empty()) {
+      lf::ByteReader r = payload(records_.back());
+      if (r.u64() != config_hash_) {
+        join_error_ = "the configuration record at offset " + std::to_string(pos) +
+                      " differs from the first one: files of different recordings are joined";
+      }
+    }
     if (h.type == lf::RecordType::kConfig && !has_config_) {
       lf::ByteReader r = payload(records_.back());
       config_hash_ = r.u64();
@@ -137,6 +168,7 @@ void LogReader::index() {
       if (r.ok()) {
         config_text_ = std::string_view(text, text_size);
         has_config_ = true;
+        config_hash_matches_ = lf::fnv1a64(text, text_size) == config_hash_;
       } else {
         defect(LogDefect::kBadPayload);
       }

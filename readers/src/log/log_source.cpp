@@ -1,25 +1,105 @@
 #include "cleanslam/readers/log_source.hpp"
 
+#include <algorithm>
+#include <cstdio>
+
 namespace cleanslam::readers {
 
 namespace lf = hal::log;
 
-LogSource::LogSource(const LogReader& reader, Pacing pacing) : reader_(reader), pacing_(pacing) {
+LogSource::LogSource(const LogReader& reader, Pacing pacing, hal::TimeNs max_span_ns)
+    : reader_(reader), pacing_(pacing) {
+  // The log's start: the earlier of its first clock record and its first input.
+  bool clock_seen = false;
+  bool input_seen = false;
+  for (const LogRecordRef& r : reader_.records()) {
+    const bool clock = r.type == lf::RecordType::kClock;
+    if ((clock && !clock_seen) || (lf::is_input(r.type) && !input_seen)) {
+      const hal::TimeNs t = event_time(r);
+      if (t >= 0 && (start_ns_ < 0 || t < start_ns_)) {
+        start_ns_ = t;
+      }
+      (clock ? clock_seen : input_seen) = true;
+    }
+    if (clock_seen && input_seen) {
+      break;
+    }
+  }
+  end_ns_ = hal::add_saturated(std::max<hal::TimeNs>(start_ns_, 0), max_span_ns);
+  span_s_ = hal::to_seconds(max_span_ns);
   if (pacing_ == Pacing::kEventTime) {
     skip_to_input();
   } else {
-    const auto& recs = reader_.records();
-    while (next_tick_ < recs.size() && recs[next_tick_].type != lf::RecordType::kClock) {
-      ++next_tick_;
-    }
+    skip_to_clock();
     next_ = next_tick_;
   }
 }
 
+void LogSource::tell(const LogRecordRef& r, const std::string& what) {
+  if (messages_.size() < kMaxMessages) {
+    messages_.push_back(reader_.name() + ": offset " + std::to_string(r.offset) + ": " +
+                        lf::to_string(r.type) + " record: " + what);
+  }
+}
+
+bool LogSource::plausible(const LogRecordRef& r) {
+  const hal::TimeNs t = event_time(r);
+  if (t >= 0 && t <= end_ns_) {
+    return true;
+  }
+  ++stamps_refused_;
+  char span[32];
+  std::snprintf(span, sizeof span, "%g", span_s_);
+  tell(r, "time stamp " + std::to_string(t) +
+              (t < 0 ? " is negative"
+                     : " is more than " + std::string(span) +
+                           " s (loop.max_span_s) after the log's first, " +
+                           std::to_string(start_ns_)) +
+              ": refused");
+  return false;
+}
+
+bool LogSource::in_place(std::size_t i) {
+  constexpr std::size_t kLookahead = 256;
+  const auto& recs = reader_.records();
+  const LogRecordRef& r = recs[i];
+  const hal::TimeNs t = event_time(r);
+  hal::TimeNs& previous =
+      last_delivered_[static_cast<std::size_t>(r.type) % last_delivered_.size()];
+  for (std::size_t j = i + 1; j < recs.size() && j <= i + kLookahead; ++j) {
+    if (recs[j].type != r.type) {
+      continue;
+    }
+    const hal::TimeNs next = event_time(recs[j]);
+    // Stamped after the next sample of its sensor, which follows the previous one: this sample
+    // is the one out of place (were it kept, the clock would run ahead to it and the samples in
+    // between would arrive late and be dropped). Else the next one is, and the loop drops it.
+    if (next < t && (previous < 0 || next > previous)) {
+      ++out_of_place_;
+      tell(r, "time stamp " + std::to_string(t) + " is after that of the next " +
+                  lf::to_string(r.type) + " record (offset " + std::to_string(recs[j].offset) +
+                  ", " + std::to_string(next) + "): out of place, refused");
+      return false;
+    }
+    break;
+  }
+  previous = t;
+  return true;
+}
+
 void LogSource::skip_to_input() {
   const auto& recs = reader_.records();
-  while (next_ < recs.size() && !lf::is_input(recs[next_].type)) {
+  while (next_ < recs.size() &&
+         (!lf::is_input(recs[next_].type) || !plausible(recs[next_]) || !in_place(next_))) {
     ++next_;
+  }
+}
+
+void LogSource::skip_to_clock() {
+  const auto& recs = reader_.records();
+  while (next_tick_ < recs.size() &&
+         (recs[next_tick_].type != lf::RecordType::kClock || !plausible(recs[next_tick_]))) {
+    ++next_tick_;
   }
 }
 
@@ -62,9 +142,7 @@ bool LogSource::advance_tick() {
   }
   next_ = next_tick_ + 1;
   next_tick_ = next_;
-  while (next_tick_ < recs.size() && recs[next_tick_].type != lf::RecordType::kClock) {
-    ++next_tick_;
-  }
+  skip_to_clock();
   in_tick_ = true;
   return true;
 }
@@ -118,6 +196,9 @@ bool LogSource::read(hal::SensorEvent& out) {
       return true;
     }
     ++payload_defects_;
+    tell(r, std::to_string(r.length) +
+                " payload bytes with a valid checksum that do not decode: "
+                "skipped");
   }
 }
 

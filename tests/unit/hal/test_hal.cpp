@@ -23,6 +23,26 @@ TEST(TickDelta, AcrossPositiveWrapAround) {
   EXPECT_EQ(tick_delta(before, after), -10);
 }
 
+TEST(Time, SaturatingArithmeticAtEveryBoundary) {
+  constexpr TimeNs kYear = TimeNs{365} * 86'400 * kNsPerSecond;
+  constexpr TimeNs kNineE18 = 9'000'000'000'000'000'000;
+  EXPECT_EQ(add_saturated(kTimeMax, 1), kTimeMax);
+  EXPECT_EQ(add_saturated(kTimeMax, kTimeMax), kTimeMax);
+  EXPECT_EQ(add_saturated(kNineE18, kNineE18), kTimeMax);
+  EXPECT_EQ(add_saturated(kNineE18, kYear), kNineE18 + kYear);  // still fits
+  EXPECT_EQ(add_saturated(kTimeMax - kYear, kYear), kTimeMax);
+  EXPECT_EQ(add_saturated(kTimeMin, -1), kTimeMin);
+  EXPECT_EQ(add_saturated(kTimeMin, kTimeMax), -1);
+  EXPECT_EQ(sub_saturated(kTimeMin, 1), kTimeMin);
+  EXPECT_EQ(sub_saturated(kTimeMax, kTimeMin), kTimeMax);
+  EXPECT_EQ(sub_saturated(kTimeMin, kTimeMax), kTimeMin);
+  EXPECT_EQ(sub_saturated(0, kTimeMin), kTimeMax);
+  EXPECT_EQ(sub_saturated(-kNineE18, kNineE18), kTimeMin);
+  EXPECT_EQ(sub_saturated(kYear, 2 * kYear), -kYear);
+  EXPECT_EQ(add_saturated(1, 2), 3);
+  EXPECT_EQ(sub_saturated(1, 2), -1);
+}
+
 TEST(Time, SecondsRoundTrip) {
   EXPECT_EQ(from_seconds(1.5), 1'500'000'000);
   EXPECT_DOUBLE_EQ(to_seconds(250 * kNsPerMillisecond), 0.25);

@@ -561,3 +561,94 @@ TEST(Dataset, GarbledFilesNeverCrash) {
   }
   EXPECT_GT(refused, 100);
 }
+
+// A stamp far in the future costs its row, told with the file and line; the rest is read.
+TEST(Dataset, RowsStampedPastTheSpanAreRefusedAndTold) {
+  for (const std::string stamp :
+       {"9223372036854775807", "9000000000000000000", "31536000010000000"}) {
+    TempDir dir;
+    make_dataset(dir.str());
+    replace_in_file(dir.path() / "gyro.csv", "\n500000000,", "\n" + stamp + ",");
+    auto d = readers::load_dataset(dir.str());
+    ASSERT_TRUE(d.ok()) << d.error();
+    EXPECT_EQ(d->gyro.size(), 99U) << stamp;
+    EXPECT_EQ(d->rows_refused, 1U) << stamp;
+    ASSERT_EQ(d->warnings.size(), 1U) << stamp;
+    EXPECT_TRUE(contains(d->warnings[0], "gyro.csv:52: t_ns: time stamp " + stamp +
+                                             " is more than 86400.0 s (loop.max_span_s) after "
+                                             "the file's first row: row refused"))
+        << d->warnings[0];
+  }
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "encoders.csv", "\n50000001,", "\n-9223372036854775808,");
+  EXPECT_TRUE(contains(load_error(dir.str()), "encoders.csv:3: t_ns: negative time stamp"));
+}
+
+TEST(DatasetSource, AStampOfTheMaximumTimeIsReadNotOverrun) {
+  TempDir dir;
+  make_dataset(dir.str());
+  write_file(dir.path() / "gyro.csv",
+             read_file(dir.path() / "gyro.csv") + "9223372036854775807,0.5\n");
+  DatasetSource::Options options;
+  options.load.max_span_ns = hal::kTimeMax;  // let the stamp through to the source
+  auto src = DatasetSource::open(dir.str(), options);
+  ASSERT_TRUE(src.ok()) << src.error();
+  hal::SensorEvent ev;
+  int gyro = 0;
+  hal::TimeNs last = -1;
+  while (src->read(ev)) {
+    if (ev.kind == hal::SensorEvent::Kind::kGyro) {
+      ++gyro;
+      last = ev.gyro.t_ns;
+    }
+  }
+  EXPECT_EQ(gyro, 101);
+  EXPECT_EQ(last, hal::kTimeMax);
+  EXPECT_TRUE(src->exhausted());
+  EXPECT_EQ(src->next_event_time(), -1);
+}
+
+TEST(Dataset, ALastLineWithoutLineEndIsSkippedAndTold) {
+  TempDir dir;
+  make_dataset(dir.str());
+  std::string enc = read_file(dir.path() / "encoders.csv");
+  enc.resize(enc.size() - 4);  // the last row's right ticks cut short
+  write_file(dir.path() / "encoders.csv", enc);
+  auto d = readers::load_dataset(dir.str());
+  ASSERT_TRUE(d.ok()) << d.error();
+  EXPECT_EQ(d->encoders.size(), 19U);
+  ASSERT_EQ(d->warnings.size(), 1U);
+  EXPECT_TRUE(contains(d->warnings[0],
+                       "encoders.csv:21: the last line has no line end: the file was cut short"))
+      << d->warnings[0];
+}
+
+TEST(DatasetSource, UnreadableImagesAreNamedWithTheirLine) {
+  TempDir dir;
+  make_dataset(dir.str());
+  auto src = DatasetSource::open(dir.str());
+  ASSERT_TRUE(src.ok()) << src.error();
+  const std::string png = src->dataset().image_path(src->dataset().camera[1]);
+  std::string bytes = read_file(png);
+  bytes.replace(bytes.size() / 2, 8, "XXXXXXXX");
+  write_file(png, bytes);
+  hal::SensorEvent ev;
+  while (src->read(ev)) {
+  }
+  EXPECT_EQ(src->image_errors(), 1);
+  ASSERT_EQ(src->image_error_messages().size(), 1U);
+  EXPECT_TRUE(contains(src->image_error_messages()[0], "cam0/data.csv:3: filename: " + png))
+      << src->image_error_messages()[0];
+}
+
+TEST(Dataset, ACameraTimeOffsetBeyondHalfASecondIsAWarning) {
+  TempDir dir;
+  make_dataset(dir.str());
+  replace_in_file(dir.path() / "sensors.yaml", "time_offset_s: 0.0", "time_offset_s: -0.75");
+  auto d = readers::load_dataset(dir.str());
+  ASSERT_TRUE(d.ok()) << d.error();
+  ASSERT_EQ(d->warnings.size(), 1U);
+  EXPECT_TRUE(contains(d->warnings[0], "camera.time_offset_s: -0.75 s is more than 0.5 s"))
+      << d->warnings[0];
+}

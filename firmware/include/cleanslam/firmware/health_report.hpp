@@ -23,6 +23,8 @@ class HealthReport final : public HealthObserver {
 
   HealthReport(const char* program, std::FILE* out) : program_(program), out_(out) {}
   void health_changed(std::int64_t t_ns, std::uint32_t before, std::uint32_t after) override;
+  // The first refusal of each reason, in words; later ones are counted in the summary.
+  void first_reject(std::int64_t t_ns, Reject r) override;
   // Closes the silences still open at `end_ns` (the run's last time).
   void finish(std::int64_t end_ns);
   [[nodiscard]] const Silence& silence(Source s) const { return silences_[s]; }

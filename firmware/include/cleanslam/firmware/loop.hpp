@@ -19,8 +19,14 @@ struct LoopOptions {
   hal::TimeNs gyro_timeout_ns = 100 * hal::kNsPerMillisecond;
   hal::TimeNs encoder_timeout_ns = 250 * hal::kNsPerMillisecond;
   hal::TimeNs camera_timeout_ns = 3 * hal::kNsPerSecond;
-  hal::TimeNs max_time_skew_ns = 1 * hal::kNsPerSecond;  // |stamp - clock| beyond: a time jump
-  int frame_work_budget = 64;                            // pipeline work units per loop iteration
+  // A sample stamped more than max_time_skew_ns behind the clock, more than max_lead_ns ahead
+  // of it, or past the start plus max_span_ns is a time jump.
+  hal::TimeNs max_time_skew_ns = 1 * hal::kNsPerSecond;
+  hal::TimeNs max_lead_ns = 10 * hal::kNsPerMillisecond;
+  hal::TimeNs max_span_ns = hal::kDefaultMaxSpanNs;
+  int frame_work_budget = 64;  // pipeline work units per loop iteration
+  int image_width = 0;         // the calibrated image size; 0: any size within the capacity
+  int image_height = 0;
 };
 
 // The per-update diagnostics records, as the frame pipeline finishes each frame.
@@ -79,6 +85,10 @@ class Loop {
   void iterate(hal::TimeNs now);
   // Earliest time a task is due; `now` or earlier when frame work is pending.
   [[nodiscard]] hal::TimeNs next_deadline() const;
+  // The latest plausible event time: the start plus options.max_span_ns.
+  [[nodiscard]] hal::TimeNs span_end() const {
+    return hal::add_saturated(start_ns_, options_.max_span_ns);
+  }
   [[nodiscard]] bool frame_work_pending() const {
     return active_ != nullptr || pending_ != nullptr;
   }
@@ -89,7 +99,9 @@ class Loop {
   [[nodiscard]] const LoopStats& stats() const { return stats_; }
   [[nodiscard]] const Estimator& estimator() const { return estimator_; }
   [[nodiscard]] std::uint32_t health() const { return health_; }
-  void count(Reject r, std::uint64_t n = 1);
+  // Counts rejected inputs; the first of each reason is told to the health observer unless the
+  // caller has told them already (`told`).
+  void count(Reject r, std::uint64_t n = 1, bool told = false);
 
  private:
   struct FrameSlot {
@@ -122,6 +134,8 @@ class Loop {
   HealthObserver* observer_ = nullptr;
 
   hal::TimeNs start_ns_ = 0;
+  hal::TimeNs now_ns_ = 0;
+  std::uint32_t told_ = 0;  // bit per Reject: its first occurrence was told to the observer
   hal::TimeNs publish_period_ns_ = 0;
   hal::TimeNs frame_period_ns_ = 0;
   hal::TimeNs next_publish_ns_ = 0;

@@ -14,6 +14,9 @@ namespace cleanslam::firmware {
 // The EKF SLAM estimator for a configuration (slam_estimator.cpp).
 std::unique_ptr<Estimator> make_estimator(const FirmwareConfig& config);
 
+// The loop's options of a configuration, with the calibrated image size frames must have.
+LoopOptions loop_options(const FirmwareConfig& config);
+
 // Counts of a finished run, one line per non-zero counter, for stderr.
 void print_summary(const Loop& loop, std::FILE* out);
 

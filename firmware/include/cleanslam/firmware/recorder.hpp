@@ -67,7 +67,7 @@ class Recorder {
   template <typename Encode>
   void append(hal::log::RecordType type, std::size_t payload_size, const Encode& encode);
   void push(const std::uint8_t* data, std::size_t n);
-  bool open_file();
+  bool open_file(std::uint32_t file_index);
   void rotate();
   std::size_t write_segment(std::size_t max_bytes);
 

@@ -30,6 +30,14 @@ inline constexpr Limit kPrincipalPointPx{-1e4, 1e4, false};
 inline constexpr Limit kDistortion{-100.0, 100.0, false};  // each of k1 k2 p1 p2
 inline constexpr Limit kPixelNoisePx{0.0, 100.0, true};
 inline constexpr Limit kTimeOffsetS{-1.0, 1.0, false};
+// A camera time offset beyond this is accepted with a warning: more than a frame period at 2 Hz.
+inline constexpr double kPlausibleTimeOffsetS = 0.5;
+inline std::string implausible_time_offset(double v) {
+  std::ostringstream s;
+  s << v << " s is more than " << kPlausibleTimeOffsetS
+    << " s: frames are matched to the odometry that far away (is it in seconds?)";
+  return s.str();
+}
 inline constexpr Limit kTicksPerMeter{0.0, 1e7, true};
 inline constexpr Limit kWheelBaseM{0.0, 10.0, true};
 inline constexpr Limit kFraction{0.0, 1.0, false};  // distance_noise and both scale_error

@@ -24,7 +24,8 @@ namespace cleanslam::hal::log {
 
 inline constexpr std::array<char, 8> kFileMagic{'C', 'S', 'L', 'A', 'M', 'L', 'O', 'G'};
 inline constexpr std::uint32_t kFormatVersion = 1;
-inline constexpr std::size_t kFileHeaderSize = 16;  // magic[8], version u32, reserved u32
+// magic[8], version u32, file index u32: 0 for the file a run began in, k after k rotations.
+inline constexpr std::size_t kFileHeaderSize = 16;
 
 inline constexpr std::uint32_t kRecordSync = 0x52534C43U;  // "CLSR" on disk
 inline constexpr std::size_t kRecordHeaderSize =
@@ -42,6 +43,30 @@ enum class RecordType : std::uint16_t {
   kUpdate = 17,  // UpdateRecord: one per observation of a visual update (diagnostics)
   kFusion = 18,  // FusionRecord: one per scalar update of an odometry measurement (diagnostics)
 };
+
+[[nodiscard]] constexpr const char* to_string(RecordType t) {
+  switch (t) {
+    case RecordType::kConfig:
+      return "config";
+    case RecordType::kClock:
+      return "clock";
+    case RecordType::kGyro:
+      return "gyro";
+    case RecordType::kEncoder:
+      return "encoder";
+    case RecordType::kFrame:
+      return "frame";
+    case RecordType::kLift:
+      return "lift";
+    case RecordType::kPose:
+      return "pose";
+    case RecordType::kUpdate:
+      return "update";
+    case RecordType::kFusion:
+      return "fusion";
+  }
+  return "unknown";
+}
 
 [[nodiscard]] constexpr bool is_input(RecordType t) {
   return t == RecordType::kGyro || t == RecordType::kEncoder || t == RecordType::kFrame ||
@@ -220,10 +245,10 @@ class ByteReader {
   bool ok_ = true;
 };
 
-inline void write_file_header(ByteWriter& w) {
+inline void write_file_header(ByteWriter& w, std::uint32_t file_index = 0) {
   w.bytes(kFileMagic.data(), kFileMagic.size());
   w.u32(kFormatVersion);
-  w.u32(0);
+  w.u32(file_index);
 }
 
 // Fills the 16-byte header in front of a payload of `length` bytes already at header + 16.

@@ -37,6 +37,9 @@ class CsvRow {
 struct CsvSpec {
   std::vector<std::string> columns;           // required, in order
   std::vector<std::string> optional_columns;  // may follow, all or none
+  // A last line without a line end (a file cut short: its last value may be cut too) is skipped
+  // with a warning here; without `warnings` it is an error.
+  std::vector<std::string>* warnings = nullptr;
 };
 
 // Reads a CSV file of the dataset format: one header line "#col1,col2,..." matching `spec`,

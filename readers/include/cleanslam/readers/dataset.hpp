@@ -46,13 +46,27 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
                                             std::vector<std::string>* warnings = nullptr);
 std::string sensors_yaml_text(const hal::Calibration& calibration);
 
+// A row stamped more than `max_span_ns` after its file's first row is refused: a corrupt stamp
+// that far in the future would hold a run for that long. Each refusal is counted and told in
+// `warnings` (when given) with the file and line.
+struct RowLimits {
+  hal::TimeNs max_span_ns = hal::kDefaultMaxSpanNs;
+  std::vector<std::string>* warnings = nullptr;
+  std::uint64_t* refused = nullptr;
+};
+
 // Time stamps must be strictly increasing (features.csv: non-decreasing).
-Result<std::vector<hal::GyroSample>> read_gyro_csv(const std::string& path);
-Result<std::vector<hal::EncoderSample>> read_encoders_csv(const std::string& path);
-Result<std::vector<CameraIndexRow>> read_camera_csv(const std::string& path);
-Result<std::vector<FeatureRow>> read_features_csv(const std::string& path);
-Result<std::vector<GroundTruthPose>> read_groundtruth_csv(const std::string& path);
-Result<std::vector<LiftRow>> read_lift_csv(const std::string& path);
+Result<std::vector<hal::GyroSample>> read_gyro_csv(const std::string& path,
+                                                   const RowLimits& limits = {});
+Result<std::vector<hal::EncoderSample>> read_encoders_csv(const std::string& path,
+                                                          const RowLimits& limits = {});
+Result<std::vector<CameraIndexRow>> read_camera_csv(const std::string& path,
+                                                    const RowLimits& limits = {});
+Result<std::vector<FeatureRow>> read_features_csv(const std::string& path,
+                                                  const RowLimits& limits = {});
+Result<std::vector<GroundTruthPose>> read_groundtruth_csv(const std::string& path,
+                                                          const RowLimits& limits = {});
+Result<std::vector<LiftRow>> read_lift_csv(const std::string& path, const RowLimits& limits = {});
 
 // Everything of a dataset folder except the image pixels.
 struct Dataset {
@@ -68,6 +82,7 @@ struct Dataset {
   bool has_features = false;
   bool has_groundtruth = false;
   std::vector<std::string> warnings;
+  std::uint64_t rows_refused = 0;  // stamped past the span (RowLimits)
 
   [[nodiscard]] std::string image_path(const CameraIndexRow& row) const;
 };
@@ -75,6 +90,7 @@ struct Dataset {
 struct LoadOptions {
   // Check that every image exists and has the calibrated size (reads headers only).
   bool check_images = true;
+  hal::TimeNs max_span_ns = hal::kDefaultMaxSpanNs;  // RowLimits
 };
 
 // Reads and validates a dataset folder.

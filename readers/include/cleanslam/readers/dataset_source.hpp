@@ -36,9 +36,14 @@ class DatasetSource final : public hal::SensorSource {
   [[nodiscard]] const Dataset& dataset() const { return dataset_; }
   [[nodiscard]] const hal::Calibration& calibration() const { return dataset_.calibration; }
   [[nodiscard]] const std::vector<std::string>& warnings() const { return dataset_.warnings; }
-  // Images that failed to load while streaming (their frames went out without an image).
+  // Images that failed to load while streaming (their frames went out without an image), and
+  // the messages of the first kMaxImageErrorsTold, each naming its file and cam0/data.csv line.
+  static constexpr int kMaxImageErrorsTold = 5;
   [[nodiscard]] int image_errors() const { return image_errors_; }
   [[nodiscard]] const std::string& last_error() const { return last_error_; }
+  [[nodiscard]] const std::vector<std::string>& image_error_messages() const {
+    return image_error_messages_;
+  }
   [[nodiscard]] std::size_t frame_count() const { return frames_.size(); }
 
  private:
@@ -60,6 +65,7 @@ class DatasetSource final : public hal::SensorSource {
   std::vector<hal::FeatureObservation> frame_features_;
   int image_errors_ = 0;
   std::string last_error_;
+  std::vector<std::string> image_error_messages_;
 };
 
 }  // namespace cleanslam::readers

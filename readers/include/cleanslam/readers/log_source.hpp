@@ -56,6 +56,14 @@ class LogReader {
   [[nodiscard]] std::string_view config_text() const { return config_text_; }
   [[nodiscard]] std::uint64_t config_hash() const { return config_hash_; }
   [[nodiscard]] bool has_config() const { return has_config_; }
+  // Whether the first configuration record's hash is that of its text.
+  [[nodiscard]] bool config_hash_matches() const { return config_hash_matches_; }
+  // The file index of the header (0: the file a run began in; k: after k rotations), and of
+  // each later header met where a record was due (files joined end to end, oldest first).
+  [[nodiscard]] std::uint32_t file_index() const { return file_index_; }
+  // Empty when the joined files follow each other, else what is wrong (a missing file).
+  [[nodiscard]] const std::string& join_error() const { return join_error_; }
+  [[nodiscard]] int files_joined() const { return files_joined_; }
   // Raw bytes of a record (header included), for bit-exact comparison.
   [[nodiscard]] const std::uint8_t* record_bytes(const LogRecordRef& r) const {
     return bytes_.data() + r.offset;
@@ -72,6 +80,10 @@ class LogReader {
   std::string_view config_text_;
   std::uint64_t config_hash_ = 0;
   bool has_config_ = false;
+  bool config_hash_matches_ = true;
+  std::uint32_t file_index_ = 0;
+  int files_joined_ = 1;
+  std::string join_error_;
 };
 
 // The recorded inputs of a log as a hal::SensorSource, on a virtual clock (fd() is -1).
@@ -83,7 +95,10 @@ class LogSource final : public hal::SensorSource {
  public:
   enum class Pacing : std::uint8_t { kEventTime, kRecordedTicks };
 
-  LogSource(const LogReader& reader, Pacing pacing);
+  // Events (kEventTime) and clock records (kRecordedTicks) stamped before 0 or more than
+  // `max_span_ns` after the log's first stamp are refused: counted and told in messages().
+  LogSource(const LogReader& reader, Pacing pacing,
+            hal::TimeNs max_span_ns = hal::kDefaultMaxSpanNs);
 
   [[nodiscard]] hal::TimeNs next_event_time() const override;
   bool read(hal::SensorEvent& out) override;
@@ -95,9 +110,20 @@ class LogSource final : public hal::SensorSource {
   bool advance_tick();
 
   [[nodiscard]] std::uint64_t payload_defects() const { return payload_defects_; }
+  [[nodiscard]] std::uint64_t stamps_refused() const { return stamps_refused_; }
+  // kEventTime: inputs stamped after the next one of the same sensor, refused (one bad stamp
+  // costs that sample only).
+  [[nodiscard]] std::uint64_t out_of_place() const { return out_of_place_; }
+  // What was skipped and why, naming the record type and offset: the first kMaxMessages.
+  static constexpr std::size_t kMaxMessages = 10;
+  [[nodiscard]] const std::vector<std::string>& messages() const { return messages_; }
 
  private:
   void skip_to_input();
+  void skip_to_clock();
+  [[nodiscard]] bool plausible(const LogRecordRef& r);
+  [[nodiscard]] bool in_place(std::size_t i);
+  void tell(const LogRecordRef& r, const std::string& what);
   [[nodiscard]] bool tick_has_input() const;
   [[nodiscard]] hal::TimeNs event_time(const LogRecordRef& r) const;
 
@@ -107,6 +133,13 @@ class LogSource final : public hal::SensorSource {
   std::size_t next_tick_ = 0;  // index of the next clock record (kRecordedTicks)
   bool in_tick_ = false;
   std::uint64_t payload_defects_ = 0;
+  std::uint64_t stamps_refused_ = 0;
+  std::uint64_t out_of_place_ = 0;
+  std::array<hal::TimeNs, 8> last_delivered_{-1, -1, -1, -1, -1, -1, -1, -1};  // by record type
+  hal::TimeNs start_ns_ = -1;
+  hal::TimeNs end_ns_ = hal::kTimeMax;
+  double span_s_ = 0.0;
+  std::vector<std::string> messages_;
   std::array<hal::FeatureObservation, hal::kMaxFeaturesPerFrame> features_{};
 };
 

@@ -1,0 +1,468 @@
+#!/usr/bin/env python3
+"""Fault matrix: the real programs on small simulated datasets and logs, each mutated with one
+fault, and the outcome each fault must have: refused with a message naming what is at fault, or
+recovered with the trajectory error within a bound (and told). Prints the table of outcomes.
+
+usage: fault_matrix.py EMULATOR BINDIR WORKDIR [CASE ...]   (EMULATOR may be "")
+"""
+import json
+import os
+import re
+import shlex
+import shutil
+import struct
+import subprocess
+import sys
+import time
+import zlib
+
+INT64_MAX = 2**63 - 1
+INT64_MIN = -(2**63)
+YEAR_NS = 365 * 86400 * 10**9
+EMU = shlex.split(sys.argv[1]) if len(sys.argv) > 1 else []
+TIMEOUT_S = 120 if EMU else 20  # a run that never ends (a stamp far in the future) is a failure
+BIN = sys.argv[2] if len(sys.argv) > 2 else "build/host-release/bin"
+WORK = sys.argv[3] if len(sys.argv) > 3 else "/tmp/fault_matrix"
+ONLY = sys.argv[4:]
+
+
+def run(args, timeout=TIMEOUT_S):
+    """(exit code or 'timeout', stderr text, seconds)"""
+    t0 = time.monotonic()
+    try:
+        p = subprocess.run(EMU + args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                           timeout=timeout)
+        return p.returncode, p.stderr.decode(errors="replace"), time.monotonic() - t0
+    except subprocess.TimeoutExpired as e:
+        return "timeout", (e.stderr or b"").decode(errors="replace"), time.monotonic() - t0
+
+
+def prog(name):
+    return os.path.join(BIN, name)
+
+
+def simulate(out, seconds, *sets):
+    args = [prog("cleanslam-sim"), "default-room", out, "--set", "duration_s=%d" % seconds]
+    for s in sets:
+        args += ["--set", s]
+    code, err, _ = run(args, timeout=120)
+    if code != 0:
+        sys.exit("cleanslam-sim failed:\n" + err)
+
+
+def ate(dataset, tum):
+    code = subprocess.run(EMU + [prog("cleanslam-eval"), "--gt",
+                                 os.path.join(dataset, "groundtruth.csv"), "--est", tum,
+                                 "--json"], capture_output=True)
+    if code.returncode != 0:
+        return None
+    return json.loads(code.stdout)["ate_rmse_m"]
+
+
+# --- dataset mutations -------------------------------------------------------------------------
+
+def copy_dataset(src, name):
+    dst = os.path.join(WORK, name)
+    shutil.rmtree(dst, ignore_errors=True)
+    shutil.copytree(src, dst)
+    return dst
+
+
+def edit_csv(folder, file, edit):
+    path = os.path.join(folder, file)
+    with open(path) as f:
+        lines = f.read().splitlines()
+    header, rows = lines[0], [r.split(",") for r in lines[1:]]
+    rows = edit(rows)
+    with open(path, "w") as f:
+        f.write("\n".join([header] + [",".join(map(str, r)) for r in rows]) + "\n")
+
+
+def set_stamp(index, value):
+    def edit(rows):
+        rows[index][0] = str(value)
+        return rows
+    return edit
+
+
+def png_gray(width, height, pixels):
+    raw = b"".join(b"\0" + pixels[y * width:(y + 1) * width] for y in range(height))
+
+    def chunk(kind, data):
+        c = struct.pack(">I", len(data)) + kind + data
+        return c + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def image_files(folder):
+    with open(os.path.join(folder, "cam0", "data.csv")) as f:
+        return [l.split(",")[1].strip() for l in f.read().splitlines()[1:] if l.strip()]
+
+
+# --- log mutations -----------------------------------------------------------------------------
+# File header 16 bytes; record: sync u32, length u32, type u16, flags u16, crc u32, payload. The
+# CRC-32 covers length, type, flags and the payload.
+SYNC = 0x52534C43
+T_CONFIG, T_CLOCK, T_GYRO, T_ENCODER, T_FRAME = 1, 2, 3, 4, 5
+
+
+def read_log(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    header, pos, recs = data[:16], 16, []
+    while pos + 16 <= len(data):
+        sync, length, rtype, flags, crc = struct.unpack_from("<IIHHI", data, pos)
+        assert sync == SYNC, "unexpected bytes at %d" % pos
+        payload = data[pos + 16:pos + 16 + length]
+        assert zlib.crc32(data[pos + 4:pos + 12] + payload) & 0xFFFFFFFF == crc
+        recs.append([rtype, flags, bytearray(payload)])
+        pos += 16 + length
+    return header, recs
+
+
+def record_bytes(rtype, flags, payload):
+    head = struct.pack("<IHH", len(payload), rtype, flags)
+    crc = zlib.crc32(head + bytes(payload)) & 0xFFFFFFFF
+    return struct.pack("<I", SYNC) + head + struct.pack("<I", crc) + bytes(payload)
+
+
+def write_log(path, header, recs):
+    with open(path, "wb") as f:
+        f.write(header)
+        for r in recs:
+            f.write(record_bytes(*r))
+
+
+def nth(recs, rtype, n):
+    """Index of the n-th record of a type (n may be negative)."""
+    idx = [i for i, r in enumerate(recs) if r[0] == rtype]
+    return idx[n]
+
+
+def stamp(rec):
+    return struct.unpack_from("<q", rec[2], 0)[0]
+
+
+def set_log_stamp(rec, value):
+    struct.pack_into("<q", rec[2], 0, value)
+
+
+def mutate_log(src, name, edit):
+    header, recs = read_log(src)
+    recs = edit(recs) or recs
+    out = os.path.join(WORK, name)
+    write_log(out, header, recs)
+    return out
+
+
+# --- the matrix --------------------------------------------------------------------------------
+
+class Case:
+    def __init__(self, name, expect, make, args, message, dataset=None, ate_max=None,
+                 code=0, extra=None):
+        self.name, self.expect, self.make, self.args = name, expect, make, args
+        self.message, self.dataset, self.ate_max, self.code = message, dataset, ate_max, code
+        self.extra = extra or []  # further regular expressions stderr must match
+
+
+def main():
+    shutil.rmtree(WORK, ignore_errors=True)
+    os.makedirs(WORK)
+    feat = os.path.join(WORK, "features")
+    imgs = os.path.join(WORK, "images")
+    simulate(feat, 20)
+    simulate(imgs, 8, "camera.mode=images")
+    base_tum = os.path.join(WORK, "base.tum")
+    base_log = os.path.join(WORK, "base.log")
+    code, err, _ = run([prog("cleanslam"), "--dataset", feat, "--tum", base_tum, "--record",
+                        base_log])
+    assert code == 0, err
+    base = ate(feat, base_tum)
+    img_tum = os.path.join(WORK, "images.tum")
+    code, err, _ = run([prog("cleanslam"), "--dataset", imgs, "--tum", img_tum])
+    assert code == 0, err
+    base_img = ate(imgs, img_tum)
+    bound = 2.0 * base + 0.01
+    bound_img = 2.0 * base_img + 0.01
+    print("baselines: features ATE %.4f m (bound %.4f), images ATE %.4f m (bound %.4f)"
+          % (base, bound, base_img, bound_img))
+
+    def ds_case(name, file, edit, source=feat):
+        def make():
+            d = copy_dataset(source, name)
+            if file is None:
+                edit(d)
+            else:
+                edit_csv(d, file, edit)
+            return d
+        return make
+
+    def log_case(name, edit, src=None):
+        return lambda: mutate_log(src or base_log, name + ".log", edit)
+
+    def gyro_rows_shifted(rows):
+        for r in rows[len(rows) // 2:]:
+            r[0] = str(int(r[0]) + YEAR_NS)
+        return rows
+
+    def wrap_ticks(rows):
+        for r in rows:
+            for i in (1, 2):
+                r[i] = str((int(r[i]) + 2**32 - 5000) % 2**32)
+        return rows
+
+    def time_offset(value):
+        def edit(d):
+            p = os.path.join(d, "sensors.yaml")
+            with open(p) as f:
+                text = f.read()
+            text, n = re.subn(r"time_offset_s: *[-0-9.e]+", "time_offset_s: %s" % value, text)
+            assert n == 1, "no camera.time_offset_s in sensors.yaml"
+            with open(p, "w") as f:
+                f.write(text)
+        return edit
+
+    def corrupt_image(d):
+        p = os.path.join(d, "cam0", "data", image_files(d)[5])
+        with open(p, "r+b") as f:
+            f.seek(60)
+            f.write(b"\xff" * 200)
+
+    def black_images(d):
+        for name in image_files(d)[4:8]:
+            with open(os.path.join(d, "cam0", "data", name), "wb") as f:
+                f.write(png_gray(320, 240, b"\0" * (320 * 240)))
+
+    def truncate_csv(d):
+        p = os.path.join(d, "encoders.csv")
+        with open(p, "rb") as f:
+            data = f.read()
+        with open(p, "wb") as f:
+            f.write(data[:-7])
+
+    def log_stamp(rtype, n, value):
+        def edit(recs):
+            set_log_stamp(recs[nth(recs, rtype, n)], value)
+        return edit
+
+    def log_early_encoder(recs):
+        r = recs[nth(recs, T_ENCODER, 100)]
+        set_log_stamp(r, stamp(r) + 900_000_000)
+
+    def log_bad_payload(recs):
+        i = nth(recs, T_GYRO, 300)
+        recs[i][2] = recs[i][2][:10]
+
+    def log_config_altered(recs):
+        i = nth(recs, T_CONFIG, 0)
+        text = recs[i][2][8:].decode()
+        text2 = re.sub(r"publish_rate_hz: *[0-9.]+", "publish_rate_hz: 10", text)
+        assert text2 != text
+        recs[i][2] = recs[i][2][:8] + text2.encode()
+
+    def log_tiny_frame(recs):
+        i = nth(recs, T_FRAME, 10)
+        t = stamp(recs[i]) + 100_000_000
+        payload = struct.pack("<qIHHHH", t, 999, 3, 3, 0, 0) + b"\x80" * 9
+        recs.insert(i + 1, [T_FRAME, 0, bytearray(payload)])
+
+    def log_nan(recs):
+        struct.pack_into("<d", recs[nth(recs, T_GYRO, 500)][2], 8, float("nan"))
+
+    def log_duplicate(recs):
+        i = nth(recs, T_GYRO, 400)
+        recs.insert(i + 1, [recs[i][0], recs[i][1], bytearray(recs[i][2])])
+
+    def log_swap(recs):
+        a, b = nth(recs, T_ENCODER, 150), nth(recs, T_ENCODER, 151)
+        recs[a], recs[b] = recs[b], recs[a]
+
+    def log_bit_flip(name):
+        def make():
+            out = os.path.join(WORK, name + ".log")
+            with open(base_log, "rb") as f:
+                data = bytearray(f.read())
+            data[len(data) // 2] ^= 0x10
+            with open(out, "wb") as f:
+                f.write(data)
+            return out
+        return make
+
+    def log_truncated(name):
+        def make():
+            out = os.path.join(WORK, name + ".log")
+            with open(base_log, "rb") as f:
+                data = f.read()
+            with open(out, "wb") as f:
+                f.write(data[:len(data) * 2 // 3 + 5])
+            return out
+        return make
+
+    rotated = os.path.join(WORK, "rotated", "run.log")
+
+    def record_rotated():
+        os.makedirs(os.path.dirname(rotated), exist_ok=True)
+        code, err, _ = run([prog("cleanslam"), "--dataset", imgs, "--record", rotated,
+                            "--set", "recorder.max_file_mb=1", "--set", "recorder.max_files=4"])
+        assert code == 0 and os.path.exists(rotated + ".1"), err
+        return rotated
+
+    def lone_newest():
+        record_rotated()
+        out = os.path.join(WORK, "lone", "run.log")
+        os.makedirs(os.path.dirname(out), exist_ok=True)
+        shutil.copy(rotated, out)
+        return out
+
+    def joined():
+        record_rotated()
+        out = os.path.join(WORK, "rotated", "joined.log")
+        with open(out, "wb") as f:
+            for p in [rotated + ".1", rotated]:
+                with open(p, "rb") as g:
+                    f.write(g.read())
+        return out
+
+    def dataset_run(make, *extra):
+        return lambda path: [prog("cleanslam"), "--dataset", path] + list(extra)
+
+    cases = [
+        # time stamps
+        Case("gyro.csv last stamp INT64_MAX", "recovered", ds_case("ds_int64max", "gyro.csv",
+             set_stamp(-1, INT64_MAX)), "dataset",
+             r"gyro\.csv:\d+: t_ns: time stamp 9223372036854775807 is more than 86400\.0 s "
+             r"\(loop\.max_span_s\).*row refused", feat, bound),
+        Case("gyro.csv stamp 9e18 mid-file", "recovered", ds_case("ds_9e18", "gyro.csv",
+             set_stamp(1000, 9 * 10**18)), "dataset",
+             r"gyro\.csv:1002: t_ns: time stamp 9000000000000000000 is more than", feat, bound),
+        Case("encoders.csv stamp INT64_MIN", "refused", ds_case("ds_int64min", "encoders.csv",
+             set_stamp(50, INT64_MIN)), "dataset",
+             r"encoders\.csv:52: t_ns: negative time stamp", code=2),
+        Case("gyro.csv second half a year late", "recovered", ds_case("ds_year", "gyro.csv",
+             gyro_rows_shifted), "dataset",
+             r"gyro\.csv:\d+: t_ns: time stamp \d+ is more than 86400", feat, 0.5,
+             extra=[r"gyro silent", r"rejected time_jump: 1000"]),
+        Case("log gyro stamp 9e18", "recovered", log_case("log_9e18",
+             log_stamp(T_GYRO, 700, 9 * 10**18)), "log",
+             r"offset \d+: gyro record: time stamp 9000000000000000000 is more than 86400 s",
+             feat, bound),
+        Case("log gyro stamp a year late", "recovered", log_case("log_year",
+             lambda r: set_log_stamp(r[nth(r, T_GYRO, 700)], stamp(r[nth(r, T_GYRO, 700)]) + YEAR_NS)),
+             "log", r"offset \d+: gyro record: time stamp \d+ is more than 86400 s", feat, bound),
+        Case("log gyro stamp INT64_MIN", "recovered", log_case("log_int64min",
+             log_stamp(T_GYRO, 700, INT64_MIN)), "log",
+             r"offset \d+: gyro record: time stamp -9223372036854775808 is negative: refused",
+             feat, bound),
+        Case("replayed clock record INT64_MAX", "told", log_case("log_clock_max",
+             log_stamp(T_CLOCK, 1000, INT64_MAX)), "replay",
+             r"offset \d+: clock record: time stamp 9223372036854775807 is more than", code=1),
+        Case("log encoder stamped 0.9 s early", "recovered", log_case("log_early",
+             log_early_encoder), "log",
+             r"offset \d+: encoder record: time stamp \d+ is after that of the next encoder",
+             feat, bound, extra=[r"rejected out_of_order: 1\b"]),
+        # losses told
+        Case("log payload that does not decode", "recovered", log_case("log_payload",
+             log_bad_payload), "log",
+             r"offset \d+: gyro record: 10 payload bytes with a valid checksum that do not decode",
+             feat, bound),
+        Case("log configuration altered", "refused", log_case("log_config", log_config_altered),
+             "replay", r"configuration record's hash \(0x[0-9a-f]+\) is not that of its text",
+             code=2),
+        Case("rotated log, later file alone", "refused", record_rotated, "replay",
+             r"run\.log is file 1 of a rotated recording[\s\S]*cat \S*run\.log\.1 \S*run\.log "
+             r"> joined\.log", code=2),
+        Case("rotated log, first file deleted", "refused", lambda: lone_newest(), "replay",
+             r"lone/run\.log\.1, which the run's start needs, does not exist", code=2),
+        Case("rotated log, files joined", "recovered", joined, "replay",
+             r"output records reproduced bit for bit"),
+        Case("3x3 frame in a log", "recovered", log_case("log_tiny", log_tiny_frame), "log",
+             r"input refused \(image_size\)", feat, bound, extra=[r"rejected image_size: 1\b"]),
+        Case("corrupt PNG", "recovered", ds_case("ds_png", None, corrupt_image, imgs), "dataset",
+             r"cam0/data\.csv:7: filename: \S+\.png: .*went on without its image", imgs,
+             bound_img),
+        Case("camera time offset +0.8 s", "recovered", ds_case("ds_offset", None, time_offset(0.8)),
+             "dataset", r"sensors\.yaml:\d+: camera\.time_offset_s: 0\.8 s is more than 0\.5 s",
+             feat, 1.0),
+        Case("camera time offset +2 s", "refused", ds_case("ds_offset2", None, time_offset(2.0)),
+             "dataset", r"camera\.time_offset_s: 2 is out of range \[-1, 1\]", code=2),
+        # already handled
+        Case("encoders.csv cut short", "recovered", ds_case("ds_trunc", None, truncate_csv),
+             "dataset", r"encoders\.csv:401: the last line has no line end: the file was cut "
+             r"short; its last row is skipped", feat, bound),
+        Case("encoders.csv duplicate row", "refused", ds_case("ds_dup", "encoders.csv",
+             lambda rows: rows[:100] + [rows[99]] + rows[100:]), "dataset",
+             r"encoders\.csv:102: t_ns: time stamp \d+ is not after the previous row's", code=2),
+        Case("gyro.csv swapped rows", "refused", ds_case("ds_swap", "gyro.csv",
+             lambda rows: rows[:300] + [rows[301], rows[300]] + rows[302:]), "dataset",
+             r"gyro\.csv:303: t_ns: time stamp \d+ is not after", code=2),
+        Case("gyro.csv NaN", "refused", ds_case("ds_nan", "gyro.csv",
+             lambda rows: rows[:300] + [[rows[300][0], "nan"]] + rows[301:]), "dataset",
+             r"gyro\.csv:302: wz_rad_s: expected a finite number", code=2),
+        Case("encoder ticks wrap around", "recovered", ds_case("ds_wrap", "encoders.csv",
+             wrap_ticks), "dataset", None, feat, bound),
+        Case("black frames", "recovered", ds_case("ds_black", None, black_images, imgs), "dataset",
+             None, imgs, bound_img),
+        Case("log truncated", "recovered", log_truncated("log_trunc"), "replay",
+             r"truncated at byte \d+.*\n(.*\n)*.*reproduced bit for bit \(up to the truncation\)"),
+        Case("log bit flip", "recovered", log_bit_flip("log_flip"), "log",
+             r"1 bad_crc record\(s\) skipped", feat, bound),
+        Case("log duplicate record", "recovered", log_case("log_dup", log_duplicate), "log",
+             r"input refused \(out_of_order\)", feat, bound),
+        Case("log swapped encoder records", "recovered", log_case("log_swap", log_swap), "log",
+             r"encoder record: time stamp \d+ is after that of the next encoder", feat, bound,
+             extra=[r"rejected out_of_order: 1\b"]),
+        Case("log NaN gyro", "recovered", log_case("log_nan", log_nan), "log",
+             r"input refused \(non_finite\)", feat, bound),
+    ]
+
+    rows, failures = [], 0
+    for c in cases:
+        if ONLY and not any(o in c.name for o in ONLY):
+            continue
+        path = c.make()
+        tum = os.path.join(WORK, re.sub(r"\W+", "_", c.name) + ".tum")
+        if c.args == "dataset":
+            args = [prog("cleanslam"), "--dataset", path, "--tum", tum]
+        elif c.args == "log":
+            args = [prog("cleanslam"), "--log", path, "--tum", tum]
+        else:
+            args = [prog("cleanslam"), "--replay", path, "--replay-out", path + ".replay"]
+        code, err, secs = run(args)
+        problems = []
+        if code != c.code:
+            problems.append("exit %s, expected %s" % (code, c.code))
+        shown = ""
+        if c.message is not None:
+            m = re.search(c.message, err)
+            if m is None:
+                problems.append("no message /%s/" % c.message)
+            else:
+                shown = m.group(0).splitlines()[0]
+        for e in c.extra:
+            if re.search(e, err) is None:
+                problems.append("no /%s/" % e.strip())
+        value = None
+        if c.ate_max is not None and code == 0:
+            value = ate(c.dataset, tum)
+            if value is None or value > c.ate_max:
+                problems.append("ATE %s m above %.4f m" % (value, c.ate_max))
+        failures += 1 if problems else 0
+        rows.append((c.name, c.expect, "FAIL: " + "; ".join(problems) if problems else "ok",
+                     "%.4f" % value if value is not None else "-", "%.1f" % secs, shown))
+        if problems:
+            sys.stderr.write("--- %s: stderr ---\n%s\n" % (c.name, err[-3000:]))
+
+    print("\n%-36s %-9s %-6s %-8s %-5s %s" % ("fault", "expected", "result", "ATE m", "s",
+                                               "message"))
+    for r in rows:
+        print("%-36s %-9s %-6s %-8s %-5s %s" % (r[0], r[1], r[2] if r[2] == "ok" else "FAIL",
+                                                 r[3], r[4], r[5][:150]))
+        if r[2] != "ok":
+            print("    " + r[2])
+    print("\n%d of %d cases as expected" % (len(rows) - failures, len(rows)))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
