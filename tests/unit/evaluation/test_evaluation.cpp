@@ -175,7 +175,9 @@ TEST(Evaluation, NeesRatioWithItsBandAndVerdict) {
   auto m = with_variance(sigma * sigma);
   ASSERT_TRUE(m.ok());
   EXPECT_NEAR(m->nees_ratio, m->nees_mean / 3.0, 1e-12);
-  const double n = m->nees_count;
+  // Independent errors: the effective count is about the pose count.
+  EXPECT_GT(m->nees_effective_count, 0.5 * m->nees_count);
+  const double n = m->nees_effective_count;
   // chi-square(3N)/(3N): mean 1, standard deviation sqrt(2/(3N)).
   EXPECT_NEAR(m->nees_ratio_low, 1.0 - 1.96 * std::sqrt(2.0 / (3.0 * n)), 0.01);
   EXPECT_NEAR(m->nees_ratio_high, 1.0 + 1.96 * std::sqrt(2.0 / (3.0 * n)), 0.01);
@@ -194,6 +196,33 @@ TEST(Evaluation, NeesRatioWithItsBandAndVerdict) {
   EXPECT_STREQ(ev::nees_verdict(*none), "");
   EXPECT_NE(ev::to_json(*none, ev::Alignment::kSe3).find("\"nees_verdict\": null"),
             std::string::npos);
+}
+
+// An error that persists over the poses (a slowly wandering offset, first-order autoregressive
+// with a correlation of 0.98 from pose to pose) is worth far fewer independent poses than it has:
+// the band widens accordingly, where counting every pose would call a consistent run
+// overconfident or conservative on chance alone.
+TEST(Evaluation, NeesBandCountsCorrelatedPosesAsFewer) {
+  const auto gt = make_gt();
+  auto est = make_estimate(gt, 0.0, {0, 0, 0}, 0.0);
+  const double sigma = 0.05;
+  const double rho = 0.98;
+  sim_hal::sim::Random rng(11);
+  std::array<double, 3> e{rng.gaussian(sigma), rng.gaussian(sigma), rng.gaussian(sigma)};
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    for (std::size_t a = 0; a < 3; ++a) {
+      e[a] = rho * e[a] + std::sqrt(1.0 - rho * rho) * rng.gaussian(sigma);
+      est[i].position[a] += e[a];
+    }
+    est[i].position_covariance =
+        std::array<double, 9>{sigma * sigma, 0, 0, 0, sigma * sigma, 0, 0, 0, sigma * sigma};
+  }
+  auto m = ev::evaluate(gt, est, ev::Alignment::kNone);
+  ASSERT_TRUE(m.ok()) << m.error();
+  ASSERT_GT(m->nees_count, 100);
+  EXPECT_LT(m->nees_effective_count, 0.2 * m->nees_count);
+  const double independent_high = 1.0 + 1.96 * std::sqrt(2.0 / (3.0 * m->nees_count));
+  EXPECT_GT(m->nees_ratio_high, independent_high + 0.05);
 }
 
 // A covariance that is not positive definite is left out of the NEES, and said so: before, the

@@ -53,8 +53,10 @@ struct Metrics {
   double nees_mean = 0.0;
   double nees_fraction_in_95 = 0.0;
   // The mean NEES as a ratio to its consistent value 3, and the two-sided 95% band of that ratio
-  // for nees_count independent poses (the mean of N chi-square(3) values is chi-square(3N)/N;
-  // Wilson-Hilferty). Successive poses are correlated, so the band is a lower bound on the width.
+  // for nees_effective_count independent poses (the mean of N chi-square(3) values is
+  // chi-square(3N)/N; Wilson-Hilferty). Successive poses are correlated: the effective count is
+  // nees_count over the NEES series' integrated autocorrelation time.
+  double nees_effective_count = 0.0;
   double nees_ratio = 0.0;
   double nees_ratio_low = 0.0;
   double nees_ratio_high = 0.0;
