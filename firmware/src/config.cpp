@@ -1,17 +1,19 @@
 #include "cleanslam/firmware/config.hpp"
 
+#include <array>
 #include <cmath>
 #include <sstream>
 
 #include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/hal/calibration_limits.hpp"
 #include "cleanslam/hal/capacities.hpp"
-#include "cleanslam/sim_hal/dataset.hpp"
-#include "cleanslam/sim_hal/yaml_document.hpp"
+#include "cleanslam/readers/dataset.hpp"
+#include "cleanslam/readers/yaml_document.hpp"
+#include "parameter_sections.hpp"
 
 namespace cleanslam::firmware {
 
-namespace yaml = sim_hal::yaml;
+namespace yaml = readers::yaml;
 
 namespace {
 
@@ -125,74 +127,79 @@ void read_calibration(Section c, hal::Calibration& cal) {
   c.done();
 }
 
+template <typename Config>
+void read_leaves(Section& s, std::span<const slam_core::Parameter<Config>> table,
+                 const std::string& prefix, Config& config) {
+  for (const auto& p : table) {
+    const std::string name(parameter_sections::leaf_name(p.key, prefix));
+    if (name.empty()) {
+      continue;
+    }
+    const double current = slam_core::get_parameter(p, config);
+    double v = current;
+    switch (slam_core::parameter_type(p)) {
+      case slam_core::ParameterType::kBool:
+        v = s.flag(name.c_str(), current != 0.0) ? 1.0 : 0.0;
+        break;
+      case slam_core::ParameterType::kInt:
+        v = s.integer(name.c_str(), static_cast<int>(current), static_cast<std::int64_t>(p.lo),
+                      static_cast<std::int64_t>(p.hi));
+        break;
+      case slam_core::ParameterType::kFloat:
+      case slam_core::ParameterType::kDouble:
+        v = s.number(name.c_str(), current, p.lo, p.hi, p.lo_open);
+        break;
+    }
+    slam_core::set_parameter(p, config, v);
+  }
+}
+
+// The keys of the parameter tables below `prefix`, nested mappings included.
+void read_parameters(Section& s, const std::string& prefix, FirmwareConfig& cfg) {
+  read_leaves(s, slam_core::slam_parameters(), prefix, cfg.slam);
+  read_leaves(s, firmware_filter_parameters(), prefix, cfg);
+  for (const std::string& child : parameter_sections::children(prefix)) {
+    Section sub = s.sub(child.c_str());
+    read_parameters(sub, prefix + child + ".", cfg);
+    sub.done();
+  }
+}
+
+void write_parameters(std::ostream& s, const std::string& prefix, const std::string& indent,
+                      const FirmwareConfig& c) {
+  const auto leaves = [&](const auto& table, const auto& config) {
+    for (const auto& p : table) {
+      const std::string_view name = parameter_sections::leaf_name(p.key, prefix);
+      if (!name.empty()) {
+        s << indent << name << ": "
+          << parameter_sections::value_text(slam_core::parameter_type(p),
+                                            slam_core::get_parameter(p, config))
+          << "\n";
+      }
+    }
+  };
+  leaves(slam_core::slam_parameters(), c.slam);
+  leaves(firmware_filter_parameters(), c);
+  for (const std::string& child : parameter_sections::children(prefix)) {
+    s << indent << child << ":\n";
+    write_parameters(s, prefix + child + ".", indent + "  ", c);
+  }
+}
+
 void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg) {
   Section top(yaml::MappingReader(root, "", d), d);
   cfg.calibration_from_dataset = top.flag("calibration_from_dataset", cfg.calibration_from_dataset);
   read_calibration(top.sub("calibration"), cfg.calibration);
-  {
-    Section f = top.sub("filter");
-    auto& x = cfg.filter;
-    x.eps_ct_m = f.number("eps_ct_m", x.eps_ct_m, 1.0, 1e4);
-    x.assumed_depth_m = f.number("assumed_depth_m", x.assumed_depth_m, 0.1, 1e3);
-    x.eps_trk_px = f.number("eps_trk_px", x.eps_trk_px, 0.0, 100.0, true);
-    x.eps_cal_px = f.number("eps_cal_px", x.eps_cal_px, 0.0, 100.0);
-    x.gate_chi2 = f.number("gate_chi2", x.gate_chi2, 0.0, 1e6, true);
-    x.max_landmarks = f.integer("max_landmarks", x.max_landmarks, 1, hal::kMaxLandmarks);
-    x.encoder_yaw_noise_rad_per_sqrt_m = f.number(
-        "encoder_yaw_noise_rad_per_sqrt_m", x.encoder_yaw_noise_rad_per_sqrt_m, 0.0, 10.0, true);
-    x.consider_young_landmarks = f.flag("consider_young_landmarks", x.consider_young_landmarks);
-    x.young_depth_std_fraction =
-        f.number("young_depth_std_fraction", x.young_depth_std_fraction, 0.0, 10.0, true);
-    x.young_depth_given_pose = f.flag("young_depth_given_pose", x.young_depth_given_pose);
-    x.depth_bounds = f.flag("depth_bounds", x.depth_bounds);
-    x.max_depth_m = f.number("max_depth_m", x.max_depth_m, 0.0, 1e4);
-    x.gyro_bias_correlation_time_s =
-        f.number("gyro_bias_correlation_time_s", x.gyro_bias_correlation_time_s, 0.0, 1e5);
-    x.distance_scale_correlation_m =
-        f.number("distance_scale_correlation_m", x.distance_scale_correlation_m, 0.0, 1e5);
-    x.gyro_scale_error = f.number("gyro_scale_error", x.gyro_scale_error, 0.0, 1.0);
-    x.gyro_bias_state = f.flag("gyro_bias_state", x.gyro_bias_state);
-    x.gyro_bias_walk = f.number("gyro_bias_walk", x.gyro_bias_walk, 0.0, 1.0);
-    x.distance_scale_state = f.flag("distance_scale_state", x.distance_scale_state);
-    x.gyro_errors_from_calibration =
-        f.flag("gyro_errors_from_calibration", x.gyro_errors_from_calibration);
-    x.hold_heading_when_still = f.flag("hold_heading_when_still", x.hold_heading_when_still);
-    x.wheel_yaw_fusion = f.flag("wheel_yaw_fusion", x.wheel_yaw_fusion);
-    x.wheel_yaw_window_intervals =
-        f.integer("wheel_yaw_window_intervals", x.wheel_yaw_window_intervals, 1, 100000);
-    x.wheel_yaw_gate_chi2 = f.number("wheel_yaw_gate_chi2", x.wheel_yaw_gate_chi2, 0.0, 1e6, true);
-    x.wheel_yaw_scale_std = f.number("wheel_yaw_scale_std", x.wheel_yaw_scale_std, 0.0, 10.0);
-    x.wheel_yaw_drift_std_rad_per_m =
-        f.number("wheel_yaw_drift_std_rad_per_m", x.wheel_yaw_drift_std_rad_per_m, 0.0, 100.0);
-    x.wheel_yaw_correlation_time_s =
-        f.number("wheel_yaw_correlation_time_s", x.wheel_yaw_correlation_time_s, 0.0, 1e5);
-    x.wheel_drift_state = f.flag("wheel_drift_state", x.wheel_drift_state);
-    if (x.wheel_drift_state && !(x.wheel_yaw_fusion && x.gyro_bias_state)) {
-      f.error("wheel_drift_state", "needs wheel_yaw_fusion and gyro_bias_state set to true");
+  for (const std::string& section : parameter_sections::children("")) {
+    Section sec = top.sub(section.c_str());
+    read_parameters(sec, section + ".", cfg);
+    if (section == "filter") {
+      const slam_core::EkfConfig& f = cfg.slam.filter;
+      if (f.wheel_drift_state && !(cfg.slam.odometry.wheel_yaw.enabled && f.gyro_bias_state)) {
+        sec.error("wheel_drift_state", "needs wheel_yaw_fusion and gyro_bias_state set to true");
+      }
     }
-    x.reinit_behind_camera = f.flag("reinit_behind_camera", x.reinit_behind_camera);
-    x.remap_pixel_std_px = f.number("remap_pixel_std_px", x.remap_pixel_std_px, 0.0, 1e4);
-    x.remap_min_yaw_std_deg =
-        f.number("remap_min_yaw_std_deg", x.remap_min_yaw_std_deg, 0.0, 180.0);
-    x.remap_max_mapped_in_view = f.integer("remap_max_mapped_in_view", x.remap_max_mapped_in_view,
-                                           0, hal::kMaxFeaturesPerFrame);
-    x.remap_merge_gate_chi2 = f.number("remap_merge_gate_chi2", x.remap_merge_gate_chi2, 0.0, 1e6);
-    x.remap_merge_consider_earlier =
-        f.flag("remap_merge_consider_earlier", x.remap_merge_consider_earlier);
-    x.second_order_yaw = f.flag("second_order_yaw", x.second_order_yaw);
-    x.remap_merge_across_ray = f.flag("remap_merge_across_ray", x.remap_merge_across_ray);
-    x.invariant_reset = f.flag("invariant_reset", x.invariant_reset);
-    f.done();
-  }
-  {
-    Section f = top.sub("frontend");
-    auto& x = cfg.frontend;
-    x.min_inliers = f.integer("min_inliers", x.min_inliers, 1, hal::kMaxObservationsPerFrame);
-    x.features_min_inliers =
-        f.integer("features_min_inliers", x.features_min_inliers, 1, hal::kMaxObservationsPerFrame);
-    x.standstill_rate_rad_s = f.number("standstill_rate_rad_s", x.standstill_rate_rad_s, 0.0, 1.0);
-    x.standstill_window_s = f.number("standstill_window_s", x.standstill_window_s, 0.05, 10.0);
-    f.done();
+    sec.done();
   }
   {
     Section l = top.sub("loop");
@@ -353,7 +360,7 @@ ConfigResult finish(yaml::Node root, const std::vector<std::string>& overrides) 
 }
 
 std::string fmt(double v) {
-  return sim_hal::format_double(v);
+  return readers::format_double(v);
 }
 
 std::string quoted(const std::string& s) {
@@ -367,7 +374,22 @@ std::string quoted(const std::string& s) {
   return out + "\"";
 }
 
+constexpr std::array kFirmwareFilterParameters{
+    slam_core::Parameter<FirmwareConfig>{
+        "filter.gyro_errors_from_calibration",
+        [](FirmwareConfig& c) {
+          return slam_core::parameter_field(c.gyro_errors_from_calibration);
+        },
+        0.0, 0.0, 1.0, false, "",
+        "gyro_scale_error, gyro_bias_walk at least the calibration's gyro.scale_error, "
+        "gyro.bias_walk"},
+};
+
 }  // namespace
+
+std::span<const slam_core::Parameter<FirmwareConfig>> firmware_filter_parameters() {
+  return kFirmwareFilterParameters;
+}
 
 ConfigResult parse_config(const std::string& text, const std::string& file_name,
                           const std::vector<std::string>& overrides) {
@@ -398,55 +420,14 @@ std::string config_text(const FirmwareConfig& c) {
   const auto secs = [](hal::TimeNs ns) { return fmt(static_cast<double>(ns) * 1e-9); };
   s << "calibration_from_dataset: " << (c.calibration_from_dataset ? "true" : "false") << "\n";
   s << "calibration:\n";
-  std::istringstream cal(sim_hal::sensors_yaml_text(c.calibration));
+  std::istringstream cal(readers::sensors_yaml_text(c.calibration));
   for (std::string line; std::getline(cal, line);) {
     s << "  " << line << "\n";
   }
-  const auto& f = c.filter;
-  s << "filter:\n"
-    << "  eps_ct_m: " << fmt(f.eps_ct_m) << "\n"
-    << "  assumed_depth_m: " << fmt(f.assumed_depth_m) << "\n"
-    << "  eps_trk_px: " << fmt(f.eps_trk_px) << "\n"
-    << "  eps_cal_px: " << fmt(f.eps_cal_px) << "\n"
-    << "  gate_chi2: " << fmt(f.gate_chi2) << "\n"
-    << "  max_landmarks: " << f.max_landmarks << "\n"
-    << "  encoder_yaw_noise_rad_per_sqrt_m: " << fmt(f.encoder_yaw_noise_rad_per_sqrt_m) << "\n"
-    << "  consider_young_landmarks: " << (f.consider_young_landmarks ? "true" : "false") << "\n"
-    << "  young_depth_std_fraction: " << fmt(f.young_depth_std_fraction) << "\n"
-    << "  young_depth_given_pose: " << (f.young_depth_given_pose ? "true" : "false") << "\n"
-    << "  depth_bounds: " << (f.depth_bounds ? "true" : "false") << "\n"
-    << "  max_depth_m: " << fmt(f.max_depth_m) << "\n"
-    << "  gyro_bias_correlation_time_s: " << fmt(f.gyro_bias_correlation_time_s) << "\n"
-    << "  distance_scale_correlation_m: " << fmt(f.distance_scale_correlation_m) << "\n"
-    << "  gyro_scale_error: " << fmt(f.gyro_scale_error) << "\n"
-    << "  gyro_bias_state: " << (f.gyro_bias_state ? "true" : "false") << "\n"
-    << "  gyro_bias_walk: " << fmt(f.gyro_bias_walk) << "\n"
-    << "  distance_scale_state: " << (f.distance_scale_state ? "true" : "false") << "\n"
-    << "  gyro_errors_from_calibration: " << (f.gyro_errors_from_calibration ? "true" : "false")
-    << "\n"
-    << "  hold_heading_when_still: " << (f.hold_heading_when_still ? "true" : "false") << "\n"
-    << "  wheel_yaw_fusion: " << (f.wheel_yaw_fusion ? "true" : "false") << "\n"
-    << "  wheel_yaw_window_intervals: " << f.wheel_yaw_window_intervals << "\n"
-    << "  wheel_yaw_gate_chi2: " << fmt(f.wheel_yaw_gate_chi2) << "\n"
-    << "  wheel_yaw_scale_std: " << fmt(f.wheel_yaw_scale_std) << "\n"
-    << "  wheel_yaw_drift_std_rad_per_m: " << fmt(f.wheel_yaw_drift_std_rad_per_m) << "\n"
-    << "  wheel_yaw_correlation_time_s: " << fmt(f.wheel_yaw_correlation_time_s) << "\n"
-    << "  wheel_drift_state: " << (f.wheel_drift_state ? "true" : "false") << "\n"
-    << "  reinit_behind_camera: " << (f.reinit_behind_camera ? "true" : "false") << "\n"
-    << "  remap_pixel_std_px: " << fmt(f.remap_pixel_std_px) << "\n"
-    << "  remap_min_yaw_std_deg: " << fmt(f.remap_min_yaw_std_deg) << "\n"
-    << "  remap_max_mapped_in_view: " << f.remap_max_mapped_in_view << "\n"
-    << "  remap_merge_gate_chi2: " << fmt(f.remap_merge_gate_chi2) << "\n"
-    << "  remap_merge_consider_earlier: " << (f.remap_merge_consider_earlier ? "true" : "false")
-    << "\n"
-    << "  second_order_yaw: " << (f.second_order_yaw ? "true" : "false") << "\n"
-    << "  remap_merge_across_ray: " << (f.remap_merge_across_ray ? "true" : "false") << "\n"
-    << "  invariant_reset: " << (f.invariant_reset ? "true" : "false") << "\n";
-  s << "frontend:\n"
-    << "  min_inliers: " << c.frontend.min_inliers << "\n"
-    << "  features_min_inliers: " << c.frontend.features_min_inliers << "\n"
-    << "  standstill_rate_rad_s: " << fmt(c.frontend.standstill_rate_rad_s) << "\n"
-    << "  standstill_window_s: " << fmt(c.frontend.standstill_window_s) << "\n";
+  for (const std::string& section : parameter_sections::children("")) {
+    s << section << ":\n";
+    write_parameters(s, section + ".", "  ", c);
+  }
   const auto& l = c.loop;
   s << "loop:\n"
     << "  frame_rate_hz: " << fmt(l.frame_rate_hz) << "\n"

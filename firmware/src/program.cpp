@@ -12,8 +12,8 @@
 #include "cleanslam/firmware/sinks.hpp"
 #include "cleanslam/firmware/status_indicator.hpp"
 #include "cleanslam/firmware/systemd_notifier.hpp"
-#include "cleanslam/sim_hal/dataset_source.hpp"
-#include "cleanslam/sim_hal/log_source.hpp"
+#include "cleanslam/readers/dataset_source.hpp"
+#include "cleanslam/readers/log_source.hpp"
 
 namespace cleanslam::firmware {
 
@@ -23,12 +23,14 @@ constexpr const char* kUsage =
     "usage: cleanslam [--config FILE] [--set key=value ...]\n"
     "                 [--dataset DIR | --log LOG] [--realtime] [--record LOG] [--tum FILE]\n"
     "       cleanslam --replay LOG [--replay-out FILE]\n"
-    "       cleanslam --version | --help\n"
+    "       cleanslam --print-sample-config | --version | --help\n"
     "Runs the localization loop on the robot's drivers, a dataset folder or a recorded log.\n"
     "--replay feeds a recorded log back through the loop at its recorded iterations and checks\n"
     "that the outputs are reproduced bit for bit (exit 0), else names the first difference\n"
     "(exit 1). --dataset/--log/--realtime/--record/--tum are shorthands for --set source.kind=,\n"
-    "source.path=, source.realtime=true, recorder.path=, sinks.tum=.\n";
+    "source.path=, source.realtime=true, recorder.path=, sinks.tum=.\n"
+    "--print-sample-config prints every key with its default, range and meaning\n"
+    "(firmware/config/cleanslam.sample.yaml).\n";
 
 struct Args {
   std::string config_path;
@@ -37,6 +39,7 @@ struct Args {
   std::string replay_out;
   bool help = false;
   bool version = false;
+  bool print_sample_config = false;
 };
 
 std::optional<Args> parse_args(int argc, char** argv) {
@@ -55,6 +58,8 @@ std::optional<Args> parse_args(int argc, char** argv) {
       a.help = true;
     } else if (arg == "--version") {
       a.version = true;
+    } else if (arg == "--print-sample-config") {
+      a.print_sample_config = true;
     } else if (arg == "--realtime") {
       a.sets.emplace_back("source.realtime=true");
     } else if (arg == "--config" || arg == "--set" || arg == "--replay" || arg == "--replay-out" ||
@@ -122,19 +127,19 @@ class StderrHealth final : public HealthObserver {
   }
 };
 
-void report_log_defects(const sim_hal::LogReader& reader, Loop* loop) {
+void report_log_defects(const readers::LogReader& reader, Loop* loop) {
   if (reader.total_defects() == 0) {
     return;
   }
-  for (int d = 0; d < static_cast<int>(sim_hal::LogDefect::kCount); ++d) {
-    const auto defect = static_cast<sim_hal::LogDefect>(d);
+  for (int d = 0; d < static_cast<int>(readers::LogDefect::kCount); ++d) {
+    const auto defect = static_cast<readers::LogDefect>(d);
     if (reader.defects(defect) > 0) {
       std::fprintf(stderr, "cleanslam: warning: %s: %llu %s record(s) skipped\n",
                    reader.name().c_str(), static_cast<unsigned long long>(reader.defects(defect)),
-                   sim_hal::to_string(defect));
+                   readers::to_string(defect));
     }
   }
-  if (reader.defects(sim_hal::LogDefect::kTruncated) > 0) {
+  if (reader.defects(readers::LogDefect::kTruncated) > 0) {
     std::fprintf(stderr,
                  "cleanslam: warning: %s is truncated at byte %zu: replaying up to its last whole "
                  "record\n",
@@ -146,7 +151,7 @@ void report_log_defects(const sim_hal::LogReader& reader, Loop* loop) {
 }
 
 int run_replay(const Args& args) {
-  sim_hal::LogReader original;
+  readers::LogReader original;
   if (!original.open(args.replay_log)) {
     std::fprintf(stderr, "cleanslam: error: %s\n", original.error().c_str());
     return 2;
@@ -176,7 +181,7 @@ int run_replay(const Args& args) {
   report_log_defects(original, nullptr);
   const std::unique_ptr<Estimator> estimator = make_estimator(cfg.config);
   Loop loop(cfg.config.loop, *estimator);
-  sim_hal::LogSource source(original, sim_hal::LogSource::Pacing::kRecordedTicks);
+  readers::LogSource source(original, readers::LogSource::Pacing::kRecordedTicks);
   loop.add_source(&source);
   Recorder recorder;
   RecorderOptions ro = cfg.config.recorder;
@@ -193,12 +198,12 @@ int run_replay(const Args& args) {
   StopSignals signals;
   run_recorded(loop, clock, source, &signals);
   recorder.close();
-  sim_hal::LogReader replayed;
+  readers::LogReader replayed;
   if (!replayed.open(ro.path)) {
     std::fprintf(stderr, "cleanslam: error: %s\n", replayed.error().c_str());
     return 2;
   }
-  const bool truncated = original.defects(sim_hal::LogDefect::kTruncated) > 0;
+  const bool truncated = original.defects(readers::LogDefect::kTruncated) > 0;
   const OutputComparison c = compare_outputs(original, replayed, truncated);
   if (c.identical) {
     std::fprintf(stderr, "cleanslam: replay of %s: %zu output records reproduced bit for bit%s\n",
@@ -219,11 +224,11 @@ int run_normal(const Args& args) {
   }
   FirmwareConfig config = cfg.config;
   std::unique_ptr<hal::SensorSource> source;
-  std::optional<sim_hal::LogReader> log;
+  std::optional<readers::LogReader> log;
   std::unique_ptr<drivers::RobotDrivers> robot;
   switch (config.source.kind) {
     case SourceSettings::Kind::kDataset: {
-      auto ds = sim_hal::DatasetSource::open(config.source.path);
+      auto ds = readers::DatasetSource::open(config.source.path);
       if (!ds.ok()) {
         std::fprintf(stderr, "cleanslam: error: %s\n", ds.error().c_str());
         return 2;
@@ -234,7 +239,7 @@ int run_normal(const Args& args) {
       if (config.calibration_from_dataset) {
         config.calibration = ds->calibration();
       }
-      source = std::make_unique<sim_hal::DatasetSource>(std::move(ds.value()));
+      source = std::make_unique<readers::DatasetSource>(std::move(ds.value()));
       break;
     }
     case SourceSettings::Kind::kLog: {
@@ -249,7 +254,7 @@ int run_normal(const Args& args) {
           config.calibration = recorded.config.calibration;
         }
       }
-      source = std::make_unique<sim_hal::LogSource>(*log, sim_hal::LogSource::Pacing::kEventTime);
+      source = std::make_unique<readers::LogSource>(*log, readers::LogSource::Pacing::kEventTime);
       break;
     }
     case SourceSettings::Kind::kDrivers: {
@@ -447,6 +452,10 @@ int program_main(int argc, char** argv) {
   }
   if (args->version) {
     std::printf("cleanslam 0.1.0\n");
+    return 0;
+  }
+  if (args->print_sample_config) {
+    std::fputs(sample_config_text().c_str(), stdout);
     return 0;
   }
   if (!args->replay_log.empty()) {

@@ -10,8 +10,8 @@ namespace lf = hal::log;
 
 namespace {
 
-std::vector<sim_hal::LogRecordRef> outputs(const sim_hal::LogReader& r) {
-  std::vector<sim_hal::LogRecordRef> out;
+std::vector<readers::LogRecordRef> outputs(const readers::LogReader& r) {
+  std::vector<readers::LogRecordRef> out;
   for (const auto& rec : r.records()) {
     if (lf::is_output(rec.type)) {
       out.push_back(rec);
@@ -33,7 +33,7 @@ const char* type_name(lf::RecordType t) {
   }
 }
 
-std::string describe(const sim_hal::LogReader& r, const sim_hal::LogRecordRef& rec) {
+std::string describe(const readers::LogReader& r, const readers::LogRecordRef& rec) {
   std::ostringstream s;
   lf::ByteReader p = r.payload(rec);
   s << type_name(rec.type) << " at offset " << rec.offset << " (t_ns " << p.i64() << ")";
@@ -42,8 +42,8 @@ std::string describe(const sim_hal::LogReader& r, const sim_hal::LogRecordRef& r
 
 }  // namespace
 
-OutputComparison compare_outputs(const sim_hal::LogReader& original,
-                                 const sim_hal::LogReader& replayed, bool original_truncated) {
+OutputComparison compare_outputs(const readers::LogReader& original,
+                                 const readers::LogReader& replayed, bool original_truncated) {
   const auto a = outputs(original);
   const auto b = outputs(replayed);
   OutputComparison c;

@@ -159,7 +159,7 @@ RunEnd run_virtual(Loop& loop, VirtualClock& clock, bool realtime, const StopSig
   return end;
 }
 
-RunEnd run_recorded(Loop& loop, VirtualClock& clock, sim_hal::LogSource& log,
+RunEnd run_recorded(Loop& loop, VirtualClock& clock, readers::LogSource& log,
                     const StopSignals* signals) {
   const hal::TimeNs t0 = log.next_tick_time();
   if (t0 < 0) {

@@ -3,16 +3,16 @@
 
 #include <memory>
 
+#include "cleanslam/paper_models/comparison_scenario.hpp"
+#include "cleanslam/paper_models/conventional_model.hpp"
+#include "cleanslam/paper_models/inverse_depth_model.hpp"
+#include "cleanslam/paper_models/multi_hypothesis_model.hpp"
+#include "cleanslam/paper_models/proposed_model.hpp"
 #include "cleanslam/slam_core/ekf.hpp"
-#include "cleanslam/slam_core/models/comparison_scenario.hpp"
-#include "cleanslam/slam_core/models/conventional_model.hpp"
-#include "cleanslam/slam_core/models/inverse_depth_model.hpp"
-#include "cleanslam/slam_core/models/multi_hypothesis_model.hpp"
-#include "cleanslam/slam_core/models/proposed_model.hpp"
 
 namespace {
 
-namespace m = cleanslam::slam_core::models;
+namespace m = cleanslam::paper_models;
 
 const m::Pinhole kCamera{};
 

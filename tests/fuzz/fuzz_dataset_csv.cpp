@@ -8,9 +8,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "cleanslam/sim_hal/dataset.hpp"
+#include "cleanslam/readers/dataset.hpp"
 
-namespace sh = cleanslam::sim_hal;
+namespace sh = cleanslam::readers;
 
 namespace {
 

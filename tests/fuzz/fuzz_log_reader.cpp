@@ -1,4 +1,4 @@
-// The replay's log reader (sim_hal::LogReader, LogSource) on any bytes. The first byte picks how
+// The replay's log reader (readers::LogReader, LogSource) on any bytes. The first byte picks how
 // the rest is read:
 //  - bit 0 clear: the rest is the file (after a valid file header when bit 1 is set), so sync
 //    words, lengths and checksums are exercised;
@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "cleanslam/hal/log_format.hpp"
-#include "cleanslam/sim_hal/log_source.hpp"
+#include "cleanslam/readers/log_source.hpp"
 
 namespace lf = cleanslam::hal::log;
-namespace sh = cleanslam::sim_hal;
+namespace sh = cleanslam::readers;
 
 namespace {
 

@@ -1,4 +1,4 @@
-// sim_hal::parse_sensors_yaml (a dataset's calibration) on any text. An error names something; a
+// readers::parse_sensors_yaml (a dataset's calibration) on any text. An error names something; a
 // calibration it accepts is written by sensors_yaml_text into a text that reads back to the same
 // text.
 #include <cstdint>
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "cleanslam/sim_hal/dataset.hpp"
+#include "cleanslam/readers/dataset.hpp"
 
 namespace {
 
@@ -21,19 +21,19 @@ namespace {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   std::vector<std::string> warnings;
-  const auto r = cleanslam::sim_hal::parse_sensors_yaml(text, "sensors.yaml", &warnings);
+  const auto r = cleanslam::readers::parse_sensors_yaml(text, "sensors.yaml", &warnings);
   if (!r.ok()) {
     if (r.error().empty()) {
       fail("an empty error message", text);
     }
     return 0;
   }
-  const std::string written = cleanslam::sim_hal::sensors_yaml_text(r.value());
-  const auto back = cleanslam::sim_hal::parse_sensors_yaml(written, "written.yaml", nullptr);
+  const std::string written = cleanslam::readers::sensors_yaml_text(r.value());
+  const auto back = cleanslam::readers::parse_sensors_yaml(written, "written.yaml", nullptr);
   if (!back.ok()) {
     fail("sensors_yaml_text wrote a text that does not parse", back.error() + "\n" + written);
   }
-  if (cleanslam::sim_hal::sensors_yaml_text(back.value()) != written) {
+  if (cleanslam::readers::sensors_yaml_text(back.value()) != written) {
     fail("the written calibration does not read back to itself", written);
   }
   return 0;

@@ -1,13 +1,13 @@
 // cleanslam-eval --gt DATASET/groundtruth.csv --est FILE.tum [--align none|se2|se3] [--json]
 // Trajectory metrics of an estimate against ground truth; covariances from FILE.tum.cov when it
-// exists (format: sim_hal/include/cleanslam/sim_hal/evaluation.hpp).
+// exists (format: evaluation/include/cleanslam/evaluation/evaluation.hpp).
 #include <cstdio>
 #include <filesystem>
 #include <string>
 #include <string_view>
 
-#include "cleanslam/sim_hal/dataset.hpp"
-#include "cleanslam/sim_hal/evaluation.hpp"
+#include "cleanslam/evaluation/evaluation.hpp"
+#include "cleanslam/readers/dataset.hpp"
 
 namespace {
 
@@ -25,7 +25,7 @@ void usage(std::FILE* out) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  namespace ev = cleanslam::sim_hal::evaluation;
+  namespace ev = cleanslam::evaluation;
   std::string gt_path, est_path, cov_path;
   ev::Alignment align = ev::Alignment::kNone;
   std::string align_name = "none";
@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
     usage(stderr);
     return 2;
   }
-  auto gt = cleanslam::sim_hal::read_groundtruth_csv(gt_path);
+  auto gt = cleanslam::readers::read_groundtruth_csv(gt_path);
   if (!gt.ok()) {
     std::fprintf(stderr, "cleanslam-eval: %s\n", gt.error().c_str());
     return 1;

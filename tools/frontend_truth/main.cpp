@@ -17,7 +17,7 @@
 #include <string_view>
 #include <vector>
 
-#include "cleanslam/sim_hal/gray_image.hpp"
+#include "cleanslam/readers/gray_image.hpp"
 #include "cleanslam/sim_hal/sim/random.hpp"
 #include "cleanslam/sim_hal/sim/renderer.hpp"
 #include "cleanslam/sim_hal/sim/scenario.hpp"
@@ -363,7 +363,7 @@ int main(int argc, char** argv) {
     csv << "frame,age,boundary,found,ncc,ex,ey\n";
   }
 
-  cleanslam::sim_hal::GrayImage image;
+  cleanslam::readers::GrayImage image;
   double exposure = 1.0;
   const double dt = 1.0 / cam.rate_hz;
   for (int k = 0; k < o.frames; ++k) {

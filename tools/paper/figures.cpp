@@ -4,16 +4,16 @@
 #include <memory>
 #include <string>
 
+#include "cleanslam/paper_models/conventional_model.hpp"
+#include "cleanslam/paper_models/inverse_depth_model.hpp"
+#include "cleanslam/paper_models/multi_hypothesis_model.hpp"
+#include "cleanslam/paper_models/proposed_model.hpp"
 #include "cleanslam/slam_core/ekf.hpp"
-#include "cleanslam/slam_core/models/conventional_model.hpp"
-#include "cleanslam/slam_core/models/inverse_depth_model.hpp"
-#include "cleanslam/slam_core/models/multi_hypothesis_model.hpp"
-#include "cleanslam/slam_core/models/proposed_model.hpp"
 
 namespace cleanslam::tools::paper {
 namespace {
 
-namespace m = slam_core::models;
+namespace m = paper_models;
 
 constexpr double kCm = 0.01;  // m per cm
 const m::Pinhole kCamera{280.0, 160.0, 120.0};

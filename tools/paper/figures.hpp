@@ -3,14 +3,14 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "cleanslam/slam_core/models/comparison_scenario.hpp"
+#include "cleanslam/paper_models/comparison_scenario.hpp"
 #include "table.hpp"
 
 // The paper's figures (Section 4) as tables in the paper's units (cm).
 namespace cleanslam::tools::paper {
 
 struct Fig10Options {
-  slam_core::models::Motion motion = slam_core::models::Motion::kForward;
+  paper_models::Motion motion = paper_models::Motion::kForward;
   std::size_t hypotheses = 5;
 };
 Table fig10(const Fig10Options& options);

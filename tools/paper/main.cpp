@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "cleanslam/slam_core/models/multi_hypothesis_model.hpp"
+#include "cleanslam/paper_models/multi_hypothesis_model.hpp"
 #include "figures.hpp"
 #include "plot.hpp"
 #include "table.hpp"
@@ -87,9 +87,9 @@ int main(int argc, char** argv) {
     } else if (option == "--motion" && allowed({"fig10"})) {
       const auto v = value();
       if (v && *v == "forward") {
-        fig10.motion = cleanslam::slam_core::models::Motion::kForward;
+        fig10.motion = cleanslam::paper_models::Motion::kForward;
       } else if (v && *v == "lateral") {
-        fig10.motion = cleanslam::slam_core::models::Motion::kLateral;
+        fig10.motion = cleanslam::paper_models::Motion::kLateral;
       } else {
         return usage_error("--motion takes forward or lateral, got '" +
                            std::string(v.value_or("")) + "'");
@@ -97,13 +97,12 @@ int main(int argc, char** argv) {
       motion_given = true;
     } else if (option == "--hypotheses" && allowed({"fig10"})) {
       const auto v = value();
-      const auto n =
-          v ? parse_number<std::size_t>(*v, 1, cleanslam::slam_core::models::kMaxHypotheses)
-            : std::nullopt;
+      const auto n = v ? parse_number<std::size_t>(*v, 1, cleanslam::paper_models::kMaxHypotheses)
+                       : std::nullopt;
       if (!n) {
         return usage_error("--hypotheses takes an integer in [1, " +
-                           std::to_string(cleanslam::slam_core::models::kMaxHypotheses) +
-                           "], got '" + std::string(v.value_or("")) + "'");
+                           std::to_string(cleanslam::paper_models::kMaxHypotheses) + "], got '" +
+                           std::string(v.value_or("")) + "'");
       }
       fig10.hypotheses = *n;
     } else if (option == "--runs" && allowed({"fig9"})) {

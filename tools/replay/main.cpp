@@ -1,7 +1,7 @@
 // cleanslam-replay DATASET --out DIR [--config FILE] [--set key=value ...]
-// Runs the firmware's own loop on a dataset through sim_hal, as fast as it can, on a virtual
-// clock: deterministic. Writes DIR/trajectory.tum (+ .cov), dead_reckoning.tum, landmarks.csv,
-// diagnostics.csv, fusion.csv.
+// Runs the firmware's own loop on a dataset (readers' DatasetSource), as fast as it can, on a
+// virtual clock: deterministic. Writes DIR/trajectory.tum (+ .cov), dead_reckoning.tum,
+// landmarks.csv, diagnostics.csv, fusion.csv.
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,7 +16,7 @@
 #include "cleanslam/firmware/program.hpp"
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/sinks.hpp"
-#include "cleanslam/sim_hal/dataset_source.hpp"
+#include "cleanslam/readers/dataset_source.hpp"
 
 namespace {
 
@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   firmware::FirmwareConfig config = cfg.config;
-  auto source = sim_hal::DatasetSource::open(dataset);
+  auto source = readers::DatasetSource::open(dataset);
   if (!source.ok()) {
     return fail(source.error());
   }

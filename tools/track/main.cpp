@@ -15,8 +15,8 @@
 #include <cstring>
 #include <string>
 
-#include "cleanslam/sim_hal/dataset.hpp"
-#include "cleanslam/sim_hal/gray_image.hpp"
+#include "cleanslam/readers/dataset.hpp"
+#include "cleanslam/readers/gray_image.hpp"
 #include "cleanslam/slam_core/frontend/frame_pipeline.hpp"
 #include "image_only_estimator.hpp"
 #include "overlay.hpp"
@@ -103,12 +103,12 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  auto loaded = cleanslam::sim_hal::load_dataset(dataset);
+  auto loaded = cleanslam::readers::load_dataset(dataset);
   if (!loaded) {
     std::fprintf(stderr, "cleanslam-track: %s\n", loaded.error().c_str());
     return 1;
   }
-  const cleanslam::sim_hal::Dataset& ds = loaded.value();
+  const cleanslam::readers::Dataset& ds = loaded.value();
   if (!ds.has_camera) {
     std::fprintf(stderr, "cleanslam-track: %s has no cam0/data.csv: nothing to track\n",
                  dataset.c_str());
@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
   tr::ImageOnlyEstimator::Config ecfg;
   ecfg.sigma_common_px = sigma_motion;
   tr::ImageOnlyEstimator estimator(ecfg);
-  cleanslam::sim_hal::GrayImage image;
+  cleanslam::readers::GrayImage image;
   long frames = 0;
   long tracked = 0;
   long inliers = 0;
@@ -154,12 +154,12 @@ int main(int argc, char** argv) {
   long deleted = 0;
   long initialized = 0;
   long rows = 0;
-  for (const cleanslam::sim_hal::CameraIndexRow& row : ds.camera) {
+  for (const cleanslam::readers::CameraIndexRow& row : ds.camera) {
     const std::string path = ds.image_path(row);
     if (max_frames >= 0.0 && static_cast<double>(frames) >= max_frames) {
       break;
     }
-    if (const auto read = cleanslam::sim_hal::read_gray_image(path, image); !read.ok()) {
+    if (const auto read = cleanslam::readers::read_gray_image(path, image); !read.ok()) {
       std::fprintf(stderr, "cleanslam-track: %s\n", read.error().c_str());
       std::fclose(out);
       return 1;

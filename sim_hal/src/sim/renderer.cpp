@@ -191,7 +191,7 @@ Renderer::Hit Renderer::cast(Vec3 o, Vec3 d) const {
   return best;
 }
 
-void Renderer::render(const Pose3& wc, double exposure, Random& rng, GrayImage& out) {
+void Renderer::render(const Pose3& wc, double exposure, Random& rng, readers::GrayImage& out) {
   const int w = camera_.width, h = camera_.height;
   const std::size_t n = rays_.size();
   for (std::size_t i = 0; i < n; ++i) {

@@ -5,13 +5,13 @@
 #include <limits>
 #include <sstream>
 
-#include "cleanslam/sim_hal/yaml_document.hpp"
+#include "cleanslam/readers/yaml_document.hpp"
 
 namespace cleanslam::sim_hal::sim {
 namespace {
 
-using yaml::MappingReader;
-using yaml::Node;
+using readers::yaml::MappingReader;
+using readers::yaml::Node;
 
 // Overlays `top` on `base`: mappings merge key by key, anything else replaces.
 void overlay(Node& base, const Node& top) {
@@ -32,17 +32,18 @@ void overlay(Node& base, const Node& top) {
   }
 }
 
-Result<Node> load_tree(const std::string& name_or_path, int depth) {
-  if (depth > 8) return Result<Node>::failure(name_or_path + ": base scenarios nest too deep");
+readers::Result<Node> load_tree(const std::string& name_or_path, int depth) {
+  if (depth > 8)
+    return readers::Result<Node>::failure(name_or_path + ": base scenarios nest too deep");
   const std::string builtin = builtin_scenario_text(name_or_path);
-  Result<Node> doc = builtin.empty()
-                         ? yaml::parse_file(name_or_path)
-                         : yaml::parse_string(builtin, "scenarios/" + name_or_path + ".yaml");
+  readers::Result<Node> doc =
+      builtin.empty() ? readers::yaml::parse_file(name_or_path)
+                      : readers::yaml::parse_string(builtin, "scenarios/" + name_or_path + ".yaml");
   if (!doc.ok()) {
     if (builtin.empty() && !std::filesystem::exists(name_or_path)) {
       std::string names;
       for (const auto& n : builtin_scenario_names()) names += " " + n;
-      return Result<Node>::failure(
+      return readers::Result<Node>::failure(
           name_or_path + ": neither a scenario file nor a built-in scenario (built in:" + names +
           ")");
     }
@@ -51,11 +52,11 @@ Result<Node> load_tree(const std::string& name_or_path, int depth) {
   Node root = std::move(doc).value();
   if (root.is_null()) root.kind = Node::Kind::kMapping;
   if (!root.is_mapping()) {
-    return Result<Node>::failure(root.location.str() + ": a scenario must be a mapping");
+    return readers::Result<Node>::failure(root.location.str() + ": a scenario must be a mapping");
   }
   if (const Node* base = root.find("base"); base != nullptr) {
-    auto base_name = yaml::as_string(*base, "base");
-    if (!base_name.ok()) return Result<Node>::failure(base_name.error());
+    auto base_name = readers::yaml::as_string(*base, "base");
+    if (!base_name.ok()) return readers::Result<Node>::failure(base_name.error());
     auto base_tree = load_tree(*base_name, depth + 1);
     if (!base_tree.ok()) return base_tree;
     Node merged = std::move(base_tree).value();
@@ -65,20 +66,20 @@ Result<Node> load_tree(const std::string& name_or_path, int depth) {
   return root;
 }
 
-Status apply_override(Node& root, const std::string& assignment) {
+readers::Status apply_override(Node& root, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) {
-    return Status::failure("--set " + assignment + ": expected key=value");
+    return readers::Status::failure("--set " + assignment + ": expected key=value");
   }
   const std::string key = assignment.substr(0, eq);
-  auto value = yaml::parse_string(assignment.substr(eq + 1), "--set " + key);
-  if (!value.ok()) return Status::failure(value.error());
+  auto value = readers::yaml::parse_string(assignment.substr(eq + 1), "--set " + key);
+  if (!value.ok()) return readers::Status::failure(value.error());
   Node* node = &root;
   std::size_t start = 0;
   while (true) {
     const auto dot = key.find('.', start);
     const std::string part = key.substr(start, dot == std::string::npos ? dot : dot - start);
-    if (part.empty()) return Status::failure("--set " + key + ": empty key part");
+    if (part.empty()) return readers::Status::failure("--set " + key + ": empty key part");
     if (!node->is_mapping()) {
       node->kind = Node::Kind::kMapping;
       node->entries.clear();
@@ -96,7 +97,7 @@ Status apply_override(Node& root, const std::string& assignment) {
     start = dot + 1;
   }
   *node = std::move(value).value();
-  return Status();
+  return readers::Status();
 }
 
 Vec3 read_vec3(MappingReader& r, const char* key, Vec3 fallback) {
@@ -112,17 +113,17 @@ int read_int(MappingReader& r, const char* key, int fallback) {
 
 }  // namespace
 
-Result<Scenario> load_scenario(const std::string& name_or_path,
-                               const std::vector<std::string>& overrides) {
-  using R = Result<Scenario>;
+readers::Result<Scenario> load_scenario(const std::string& name_or_path,
+                                        const std::vector<std::string>& overrides) {
+  using R = readers::Result<Scenario>;
   auto tree = load_tree(name_or_path, 0);
   if (!tree.ok()) return R::failure(tree.error());
   Node root = std::move(tree).value();
   for (const std::string& o : overrides) {
-    Status s = apply_override(root, o);
+    readers::Status s = apply_override(root, o);
     if (!s) return R::failure(s.error());
   }
-  yaml::Diagnostics diag;
+  readers::yaml::Diagnostics diag;
   MappingReader r(root, "", diag);
   Scenario sc;
   r.optional_string("base", "");

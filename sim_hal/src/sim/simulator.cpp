@@ -106,9 +106,9 @@ std::vector<Visible> visible_landmarks(const Scenario::Camera& c, const World& w
   return out;
 }
 
-Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_dir,
-                                   const std::function<void(double)>& progress) {
-  using R = Result<SimulationSummary>;
+readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_dir,
+                                            const std::function<void(double)>& progress) {
+  using R = readers::Result<SimulationSummary>;
   Random world_rng(sc.seed, stream::kWorld);
   Random path_rng(sc.seed, stream::kPath);
   const World world(sc, world_rng);
@@ -123,9 +123,10 @@ Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_di
   }
 
   DatasetWriter writer;
-  Status s = writer.open(out_dir, calibration_of(sc),
-                         sc.camera.image_format == "pgm" ? DatasetWriter::ImageFormat::kPgm
-                                                         : DatasetWriter::ImageFormat::kPng);
+  readers::Status s =
+      writer.open(out_dir, calibration_of(sc),
+                  sc.camera.image_format == "pgm" ? DatasetWriter::ImageFormat::kPgm
+                                                  : DatasetWriter::ImageFormat::kPng);
   if (!s) return R::failure(s.error());
   SimulationSummary sum;
   sum.duration_s = duration;
@@ -144,15 +145,15 @@ Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_di
       if (t > duration) break;
       const TrueState st = traj.at(t);
       const Pose3 b = Trajectory::body_pose(st);
-      writer.add_groundtruth(GroundTruthPose{to_ns(t0 + t),
-                                             {st.position.x, st.position.y, st.position.z},
-                                             quaternion_wxyz(b.rotation)});
+      writer.add_groundtruth(readers::GroundTruthPose{to_ns(t0 + t),
+                                                      {st.position.x, st.position.y, st.position.z},
+                                                      quaternion_wxyz(b.rotation)});
     }
   }
   // Wheel-drop state changes (lift.csv, a format extension).
   for (const auto& [lift_start, lift_end] : traj.lift_intervals()) {
-    writer.add_lift(LiftRow{to_ns(t0 + lift_start), true});
-    writer.add_lift(LiftRow{to_ns(t0 + lift_end), false});
+    writer.add_lift(readers::LiftRow{to_ns(t0 + lift_start), true});
+    writer.add_lift(readers::LiftRow{to_ns(t0 + lift_end), false});
   }
   report(0.1);
   // Gyro: (1 + scale) * mean true rate over the sample interval + bias (random walk) + white noise.
@@ -230,7 +231,7 @@ Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_di
     const bool write_images = c.mode == "images" || c.mode == "both";
     std::unique_ptr<Renderer> renderer;
     if (write_images) renderer = std::make_unique<Renderer>(sc);
-    GrayImage image;
+    readers::GrayImage image;
     double exposure = 1.0;
     const double dt = 1.0 / c.rate_hz;
     const double phase = 0.013;
@@ -310,8 +311,9 @@ Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_di
     std::ofstream lm(std::filesystem::path(out_dir) / "sim_landmarks.csv", std::ios::trunc);
     lm << "#id,x_m,y_m,z_m\n";
     for (const Landmark& l : world.landmarks()) {
-      lm << l.id << ',' << format_double(l.position.x) << ',' << format_double(l.position.y) << ','
-         << format_double(l.position.z) << '\n';
+      lm << l.id << ',' << readers::format_double(l.position.x) << ','
+         << readers::format_double(l.position.y) << ',' << readers::format_double(l.position.z)
+         << '\n';
     }
     if (!lm) return R::failure(out_dir + "/sim_landmarks.csv: write error");
   }

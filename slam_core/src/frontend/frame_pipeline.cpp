@@ -39,6 +39,23 @@ void FramePipeline::forget_map() {
   cursor_ = 0;
 }
 
+void FramePipeline::suspend_map() {
+  for (int slot = 0; slot < hal::kMaxLandmarks; ++slot) {
+    book_.remove(slot);
+  }
+}
+
+void FramePipeline::resume(int slot) {
+  if (patches_.get(slot) != nullptr) {
+    book_.resume(slot);
+  }
+}
+
+void FramePipeline::forget(int slot) {
+  book_.remove(slot);
+  patches_.clear(slot);
+}
+
 ImageCheck FramePipeline::begin_frame(const hal::GrayImageView& image, bool allow_update) {
   report_ = FrameReport{};
   image_ = image;

@@ -1,10 +1,13 @@
 #include "cleanslam/slam_core/frontend/landmark_book.hpp"
 
+#include <algorithm>
 #include <cstddef>
 
 namespace cleanslam::slam_core::frontend {
 
 namespace {
+constexpr std::uint32_t kLongGapFrames = 1000;
+
 bool in_range(int slot) {
   return slot >= 0 && slot < hal::kMaxLandmarks;
 }
@@ -22,6 +25,16 @@ void LandmarkBook::activate(int slot) {
   failures_[s] = 0;
   matches_[s] = 0;
   last_match_[s] = frame_;
+}
+
+void LandmarkBook::resume(int slot) {
+  if (!in_range(slot)) {
+    return;
+  }
+  activate(slot);
+  const auto s = static_cast<std::size_t>(slot);
+  matches_[s] = static_cast<std::uint16_t>(std::max(0, config_.min_matches_to_keep));
+  last_match_[s] = frame_ - kLongGapFrames;
 }
 
 void LandmarkBook::remove(int slot) {

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -41,20 +43,21 @@ TEST(Config, TheCheapOdometryProfileLoadsAndTurnsOnItsMechanisms) {
   const ConfigResult r = load_config(profile, {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
   EXPECT_TRUE(r.warnings.empty()) << joined(r.warnings);
-  const firmware::FilterSettings& f = r.config.filter;
-  EXPECT_EQ(f.eps_trk_px, 3.0);
-  EXPECT_TRUE(f.gyro_bias_state && f.gyro_errors_from_calibration && f.distance_scale_state &&
-              f.second_order_yaw && f.remap_merge_across_ray && f.wheel_drift_state);
+  const slam_core::SlamConfig& f = r.config.slam;
+  EXPECT_EQ(f.filter.eps_trk_px, 3.0);
+  EXPECT_TRUE(f.filter.gyro_bias_state && r.config.gyro_errors_from_calibration &&
+              f.filter.distance_scale_state && f.filter.second_order_yaw &&
+              f.filter.merge_across_ray && f.filter.wheel_drift_state);
   // Everything else stays at the defaults.
   FirmwareConfig expected;
-  expected.filter.eps_trk_px = 3.0;
-  expected.filter.gyro_bias_state = true;
-  expected.filter.gyro_errors_from_calibration = true;
-  expected.filter.distance_scale_state = true;
-  expected.filter.second_order_yaw = true;
-  expected.filter.remap_merge_across_ray = true;
-  expected.filter.wheel_drift_state = true;
-  expected.filter.remap_pixel_std_px = 50.0;
+  expected.slam.filter.eps_trk_px = 3.0;
+  expected.slam.filter.gyro_bias_state = true;
+  expected.gyro_errors_from_calibration = true;
+  expected.slam.filter.distance_scale_state = true;
+  expected.slam.filter.second_order_yaw = true;
+  expected.slam.filter.merge_across_ray = true;
+  expected.slam.filter.wheel_drift_state = true;
+  expected.slam.map.remap_pixel_std_px = 50.0;
   EXPECT_EQ(config_text(r.config), config_text(expected));
 }
 
@@ -65,7 +68,7 @@ TEST(Config, CanonicalTextReadsBackToTheSameConfiguration) {
       "    fx: 281.25\n",
       "a.yaml", {});
   ASSERT_TRUE(a.ok()) << joined(a.errors);
-  EXPECT_EQ(a.config.filter.eps_ct_m, 123.456789);
+  EXPECT_EQ(a.config.slam.filter.eps_ct_m, 123.456789);
   EXPECT_EQ(a.config.loop.gyro_timeout_ns, 123'000'000);
   EXPECT_EQ(a.config.source.kind, firmware::SourceSettings::Kind::kLog);
   EXPECT_EQ(a.config.source.path, "/tmp/x y.log");
@@ -170,18 +173,18 @@ TEST(Config, SparseOdometryKeysParseAndAreRangeChecked) {
       "  distance_scale_state: true\n  second_order_yaw: true\n",
       "s.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_TRUE(r.config.filter.young_depth_given_pose);
-  EXPECT_TRUE(r.config.filter.gyro_bias_state);
-  EXPECT_EQ(r.config.filter.gyro_bias_walk, 0.0005);
-  EXPECT_FALSE(r.config.filter.hold_heading_when_still);
-  EXPECT_TRUE(r.config.filter.reinit_behind_camera);
-  EXPECT_TRUE(r.config.filter.distance_scale_state);
-  EXPECT_TRUE(r.config.filter.second_order_yaw);
+  EXPECT_TRUE(r.config.slam.filter.young_depth_given_pose);
+  EXPECT_TRUE(r.config.slam.filter.gyro_bias_state);
+  EXPECT_EQ(r.config.slam.filter.gyro_bias_walk, 0.0005);
+  EXPECT_FALSE(r.config.slam.odometry.hold_heading_when_still);
+  EXPECT_TRUE(r.config.slam.map.reinit_behind_camera);
+  EXPECT_TRUE(r.config.slam.filter.distance_scale_state);
+  EXPECT_TRUE(r.config.slam.filter.second_order_yaw);
   const FirmwareConfig defaults;
-  EXPECT_TRUE(defaults.filter.hold_heading_when_still);
-  EXPECT_FALSE(defaults.filter.gyro_bias_state || defaults.filter.reinit_behind_camera ||
-               defaults.filter.young_depth_given_pose || defaults.filter.distance_scale_state ||
-               defaults.filter.second_order_yaw);
+  EXPECT_TRUE(defaults.slam.odometry.hold_heading_when_still);
+  EXPECT_FALSE(defaults.slam.filter.gyro_bias_state || defaults.slam.map.reinit_behind_camera ||
+               defaults.slam.filter.young_depth_given_pose ||
+               defaults.slam.filter.distance_scale_state || defaults.slam.filter.second_order_yaw);
   const ConfigResult bad =
       parse_config("filter:\n  gyro_bias_walk: -1\n  gyro_bias_state: maybe\n", "b.yaml", {});
   ASSERT_EQ(bad.errors.size(), 2U) << joined(bad.errors);
@@ -197,14 +200,14 @@ TEST(Config, RemapKeysParseAndAreRangeChecked) {
       "  remap_merge_consider_earlier: false\n  remap_merge_across_ray: true\n",
       "r.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_TRUE(FirmwareConfig{}.filter.remap_merge_consider_earlier);
-  EXPECT_FALSE(r.config.filter.remap_merge_consider_earlier);
-  EXPECT_FALSE(FirmwareConfig{}.filter.remap_merge_across_ray);
-  EXPECT_TRUE(r.config.filter.remap_merge_across_ray);
-  EXPECT_EQ(r.config.filter.remap_pixel_std_px, 0.0);
-  EXPECT_EQ(r.config.filter.remap_min_yaw_std_deg, 10.0);
-  EXPECT_EQ(r.config.filter.remap_max_mapped_in_view, 4);
-  EXPECT_EQ(r.config.filter.remap_merge_gate_chi2, 11.34);
+  EXPECT_TRUE(FirmwareConfig{}.slam.filter.merge_considers_kept);
+  EXPECT_FALSE(r.config.slam.filter.merge_considers_kept);
+  EXPECT_FALSE(FirmwareConfig{}.slam.filter.merge_across_ray);
+  EXPECT_TRUE(r.config.slam.filter.merge_across_ray);
+  EXPECT_EQ(r.config.slam.map.remap_pixel_std_px, 0.0);
+  EXPECT_EQ(r.config.slam.map.remap_min_yaw_std_deg, 10.0);
+  EXPECT_EQ(r.config.slam.map.remap_max_mapped_in_view, 4);
+  EXPECT_EQ(r.config.slam.map.remap_merge_gate_chi2, 11.34);
   const ConfigResult bad = parse_config(
       "filter:\n  remap_pixel_std_px: -1\n  remap_min_yaw_std_deg: 200\n"
       "  remap_max_mapped_in_view: -2\n  remap_merge_gate_chi2: x\n"
@@ -221,10 +224,10 @@ TEST(Config, RemapKeysParseAndAreRangeChecked) {
 }
 
 TEST(Config, InvariantResetIsOnByDefaultAndParses) {
-  EXPECT_TRUE(FirmwareConfig{}.filter.invariant_reset);
+  EXPECT_TRUE(FirmwareConfig{}.slam.filter.invariant_reset);
   const ConfigResult r = parse_config("filter:\n  invariant_reset: false\n", "i.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_FALSE(r.config.filter.invariant_reset);
+  EXPECT_FALSE(r.config.slam.filter.invariant_reset);
   const ConfigResult bad = parse_config("filter:\n  invariant_reset: 2\n", "b.yaml", {});
   ASSERT_EQ(bad.errors.size(), 1U) << joined(bad.errors);
   EXPECT_NE(joined(bad.errors).find("b.yaml:2: filter.invariant_reset"), std::string::npos)
@@ -239,8 +242,8 @@ TEST(Config, GyroErrorsFromCalibrationKeysParseAndAreRangeChecked) {
   ASSERT_TRUE(r.ok()) << joined(r.errors);
   EXPECT_EQ(r.config.calibration.gyro.scale_error, 0.02);
   EXPECT_EQ(r.config.calibration.gyro.bias_walk, 0.0005);
-  EXPECT_TRUE(r.config.filter.gyro_errors_from_calibration);
-  EXPECT_FALSE(FirmwareConfig{}.filter.gyro_errors_from_calibration);
+  EXPECT_TRUE(r.config.gyro_errors_from_calibration);
+  EXPECT_FALSE(FirmwareConfig{}.gyro_errors_from_calibration);
   const ConfigResult bad = parse_config(
       "calibration:\n  gyro:\n    scale_error: 2\nfilter:\n  gyro_errors_from_calibration: 3\n",
       "h.yaml", {});
@@ -251,20 +254,20 @@ TEST(Config, GyroErrorsFromCalibrationKeysParseAndAreRangeChecked) {
 }
 
 TEST(Config, WheelYawFusionKeysParseAndAreRangeChecked) {
-  EXPECT_TRUE(FirmwareConfig{}.filter.wheel_yaw_fusion);
+  EXPECT_TRUE(FirmwareConfig{}.slam.odometry.wheel_yaw.enabled);
   const ConfigResult r = parse_config(
       "filter:\n  wheel_yaw_fusion: false\n  wheel_yaw_window_intervals: 20\n"
       "  wheel_yaw_gate_chi2: 9\n  wheel_yaw_scale_std: 0.1\n"
       "  wheel_yaw_drift_std_rad_per_m: 0.3\n  wheel_yaw_correlation_time_s: 100\n",
       "w.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
-  const firmware::FilterSettings& f = r.config.filter;
-  EXPECT_FALSE(f.wheel_yaw_fusion);
-  EXPECT_EQ(f.wheel_yaw_window_intervals, 20);
-  EXPECT_EQ(f.wheel_yaw_gate_chi2, 9.0);
-  EXPECT_EQ(f.wheel_yaw_scale_std, 0.1);
-  EXPECT_EQ(f.wheel_yaw_drift_std_rad_per_m, 0.3);
-  EXPECT_EQ(f.wheel_yaw_correlation_time_s, 100.0);
+  const slam_core::SlamConfig& f = r.config.slam;
+  EXPECT_FALSE(f.odometry.wheel_yaw.enabled);
+  EXPECT_EQ(f.odometry.wheel_yaw.window_intervals, 20);
+  EXPECT_EQ(f.odometry.wheel_yaw.gate_chi2, 9.0);
+  EXPECT_EQ(f.odometry.wheel_yaw.scale_std, 0.1);
+  EXPECT_EQ(f.odometry.wheel_yaw.drift_std_rad_per_m, 0.3);
+  EXPECT_EQ(f.odometry.wheel_yaw.calibration_correlation_time_s, 100.0);
   const ConfigResult bad = parse_config(
       "filter:\n  wheel_yaw_window_intervals: 0\n  wheel_yaw_gate_chi2: 0\n"
       "  wheel_yaw_correlation_time_s: -1\n",
@@ -277,11 +280,11 @@ TEST(Config, WheelYawFusionKeysParseAndAreRangeChecked) {
 }
 
 TEST(Config, WheelDriftStateNeedsTheHeadingFusionAndTheGyroBiasState) {
-  EXPECT_FALSE(FirmwareConfig{}.filter.wheel_drift_state);
+  EXPECT_FALSE(FirmwareConfig{}.slam.filter.wheel_drift_state);
   const ConfigResult r =
       parse_config("filter:\n  gyro_bias_state: true\n  wheel_drift_state: true\n", "d.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_TRUE(r.config.filter.wheel_drift_state);
+  EXPECT_TRUE(r.config.slam.filter.wheel_drift_state);
   const ConfigResult bad = parse_config(
       "filter:\n  wheel_yaw_fusion: false\n  gyro_bias_state: true\n  wheel_drift_state: true\n",
       "e.yaml", {});
@@ -291,6 +294,112 @@ TEST(Config, WheelDriftStateNeedsTheHeadingFusionAndTheGyroBiasState) {
   EXPECT_NE(bad.errors[0].find("gyro_bias_state"), std::string::npos) << bad.errors[0];
   const ConfigResult no_bias = parse_config("filter:\n  wheel_drift_state: true\n", "f.yaml", {});
   EXPECT_EQ(no_bias.errors.size(), 1U) << joined(no_bias.errors);
+}
+
+}  // namespace
+}  // namespace cleanslam
+
+namespace cleanslam {
+namespace {
+
+using firmware::sample_config_text;
+
+// Regenerate with `cleanslam --print-sample-config > firmware/config/cleanslam.sample.yaml`.
+TEST(ParameterConfig, TheCommittedSampleIsTheOneTheTablesGenerate) {
+  std::ifstream in(std::string(CLEANSLAM_SOURCE_DIR) + "/firmware/config/cleanslam.sample.yaml");
+  ASSERT_TRUE(in.good());
+  std::stringstream committed;
+  committed << in.rdbuf();
+  EXPECT_EQ(committed.str(), sample_config_text())
+      << "regenerate with cleanslam --print-sample-config";
+}
+
+// A value as a configuration text writes it.
+std::string value_text(slam_core::ParameterType type, double v) {
+  switch (type) {
+    case slam_core::ParameterType::kBool:
+      return v != 0.0 ? "true" : "false";
+    case slam_core::ParameterType::kInt:
+      return std::to_string(static_cast<long long>(v));
+    default:
+      return std::to_string(v);
+  }
+}
+
+// Every key of the tables is read from its place in the configuration (nested sections
+// included), range checked, and written back by config_text.
+TEST(ParameterConfig, EveryTableKeyIsSetByItsConfigurationKey) {
+  for (const auto& p : slam_core::slam_parameters()) {
+    const double v = slam_core::parameter_type(p) == slam_core::ParameterType::kBool
+                         ? 1.0 - p.default_value
+                     : p.hi != p.default_value ? p.hi
+                                               : p.lo + 1.0;
+    ASSERT_TRUE(slam_core::parameter_in_range(p, v)) << p.key;
+    const std::string set = std::string(p.key) + "=" + value_text(slam_core::parameter_type(p), v);
+    // The wheels' drift state needs the gyro bias state.
+    const std::string needed = p.key == "filter.wheel_drift_state" ? "filter.gyro_bias_state=true"
+                                                                   : "loop.frame_rate_hz=2";
+    const ConfigResult r = parse_config("", "t.yaml", {set, needed});
+    ASSERT_TRUE(r.ok()) << set << "\n" << joined(r.errors);
+    EXPECT_TRUE(r.warnings.empty()) << joined(r.warnings);
+    EXPECT_EQ(slam_core::get_parameter(p, r.config.slam),
+              slam_core::parameter_type(p) == slam_core::ParameterType::kFloat
+                  ? static_cast<double>(static_cast<float>(v))
+                  : v)
+        << p.key;
+    const ConfigResult back = parse_config(config_text(r.config), "back.yaml", {});
+    ASSERT_TRUE(back.ok()) << joined(back.errors);
+    EXPECT_EQ(config_text(back.config), config_text(r.config)) << p.key;
+    // Out of range: an error naming the file, line and key; the default stays.
+    if (slam_core::parameter_type(p) != slam_core::ParameterType::kBool) {
+      const std::string section(p.key.substr(0, p.key.rfind('.')));
+      const std::string name(p.key.substr(p.key.rfind('.') + 1));
+      std::string text;
+      std::string indent;
+      std::size_t start = 0;
+      int line = 0;
+      for (auto dot = section.find('.');; dot = section.find('.', start)) {
+        text += indent + section.substr(start, dot - start) + ":\n";
+        indent += "  ";
+        ++line;
+        if (dot == std::string::npos) {
+          break;
+        }
+        start = dot + 1;
+      }
+      text +=
+          indent + name + ": " + value_text(slam_core::parameter_type(p), p.hi * 2.0 + 1.0) + "\n";
+      const ConfigResult bad = parse_config(text, "bad.yaml", {});
+      ASSERT_EQ(bad.errors.size(), 1U) << text << joined(bad.errors);
+      const std::string where = "bad.yaml:" + std::to_string(line + 1) + ": " + std::string(p.key);
+      EXPECT_NE(bad.errors[0].find(where), std::string::npos) << bad.errors[0];
+      EXPECT_NE(bad.errors[0].find("out of range"), std::string::npos) << bad.errors[0];
+      EXPECT_EQ(slam_core::get_parameter(p, bad.config.slam), slam_core::stored_default(p));
+    }
+  }
+}
+
+TEST(ParameterConfig, TheFirmwaresKeysDefaultsAreTheListedOnes) {
+  const FirmwareConfig defaults{};
+  for (const auto& p : firmware::firmware_filter_parameters()) {
+    EXPECT_EQ(slam_core::get_parameter(p, defaults), slam_core::stored_default(p)) << p.key;
+  }
+}
+
+TEST(ParameterConfig, FrontEndKeysReachThePipelineAndUnknownNestedKeysWarn) {
+  const ConfigResult r = parse_config(
+      "frontend:\n  harris:\n    k: 0.05\n    max_corner: 3\n  tracker:\n    min_ncc: 0.7\n"
+      "  landmark_book:\n    min_in_view: 3\n",
+      "f.yaml", {"frontend.search_region.max_half_extent_px=25"});
+  ASSERT_TRUE(r.ok()) << joined(r.errors);
+  const auto& fe = r.config.slam.frontend;
+  EXPECT_EQ(fe.harris.k, 0.05F);
+  EXPECT_EQ(fe.tracker.min_ncc, 0.7F);
+  EXPECT_EQ(fe.book.min_in_view, 3);
+  EXPECT_EQ(fe.region.max_half_extent_px, 25.0);
+  ASSERT_EQ(r.warnings.size(), 1U) << joined(r.warnings);
+  EXPECT_NE(r.warnings[0].find("f.yaml:4"), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("frontend.harris.max_corner"), std::string::npos) << r.warnings[0];
 }
 
 }  // namespace

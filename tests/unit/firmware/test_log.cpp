@@ -9,7 +9,7 @@
 
 #include "cleanslam/firmware/recorder.hpp"
 #include "cleanslam/hal/log_format.hpp"
-#include "cleanslam/sim_hal/log_source.hpp"
+#include "cleanslam/readers/log_source.hpp"
 
 namespace cleanslam {
 namespace {
@@ -18,9 +18,9 @@ namespace fs = std::filesystem;
 namespace lf = hal::log;
 using firmware::Recorder;
 using firmware::RecorderOptions;
-using sim_hal::LogDefect;
-using sim_hal::LogReader;
-using sim_hal::LogSource;
+using readers::LogDefect;
+using readers::LogReader;
+using readers::LogSource;
 
 fs::path temp_dir(const std::string& name) {
   const fs::path dir =

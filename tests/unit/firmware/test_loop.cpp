@@ -394,12 +394,12 @@ TEST(Replay, ReproducesTheRecordedOutputsBitForBit) {
     loop.set_recorder(&rec);
     rig.run(loop);
   }
-  sim_hal::LogReader original;
+  readers::LogReader original;
   ASSERT_TRUE(original.open((dir / "run.log").string()));
   const auto replay = [&](const std::string& out, double tweak) {
     FakeEstimator est;
     est.yaw = tweak;
-    sim_hal::LogSource src(original, sim_hal::LogSource::Pacing::kRecordedTicks);
+    readers::LogSource src(original, readers::LogSource::Pacing::kRecordedTicks);
     firmware::Recorder rec;
     firmware::RecorderOptions ro;
     ro.path = (dir / out).string();
@@ -411,7 +411,7 @@ TEST(Replay, ReproducesTheRecordedOutputsBitForBit) {
     VirtualClock clock;
     firmware::run_recorded(loop, clock, src, nullptr);
     rec.close();
-    sim_hal::LogReader replayed;
+    readers::LogReader replayed;
     EXPECT_TRUE(replayed.open(ro.path));
     return firmware::compare_outputs(original, replayed);
   };

@@ -20,8 +20,8 @@
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/slam_estimator.hpp"
 #include "cleanslam/firmware/status_indicator.hpp"
-#include "cleanslam/sim_hal/dataset.hpp"
-#include "cleanslam/sim_hal/dataset_source.hpp"
+#include "cleanslam/readers/dataset.hpp"
+#include "cleanslam/readers/dataset_source.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
 #include "fakes.hpp"
 
@@ -165,7 +165,7 @@ class PoseLog final : public hal::PoseSink {
 // The kidnapped scenario, lifted at 20 s for 3 s and set down `skip_s` of path further on.
 struct KidnappedRun {
   std::string dir;
-  std::vector<sim_hal::GroundTruthPose> gt;
+  std::vector<readers::GroundTruthPose> gt;
   bool ok = false;
 
   explicit KidnappedRun(double skip_s) {
@@ -178,7 +178,7 @@ struct KidnappedRun {
     if (!scenario.ok() || !sim_hal::sim::simulate(*scenario, dir).ok()) {
       return;
     }
-    auto g = sim_hal::read_groundtruth_csv(dir + "/groundtruth.csv");
+    auto g = readers::read_groundtruth_csv(dir + "/groundtruth.csv");
     if (!g.ok()) {
       return;
     }
@@ -187,7 +187,7 @@ struct KidnappedRun {
   }
   ~KidnappedRun() { fs::remove_all(dir); }
 
-  [[nodiscard]] const sim_hal::GroundTruthPose& at(hal::TimeNs t) const {
+  [[nodiscard]] const readers::GroundTruthPose& at(hal::TimeNs t) const {
     std::size_t i = 0;
     while (i + 1 < gt.size() && gt[i + 1].t_ns <= t) {
       ++i;
@@ -196,7 +196,7 @@ struct KidnappedRun {
   }
 
   std::vector<hal::PoseEstimate> run(const std::string& policy) const {
-    auto ds = sim_hal::DatasetSource::open(dir);
+    auto ds = readers::DatasetSource::open(dir);
     auto cfg = parse_config("", "", {"robot.on_set_down=" + policy});
     if (!ds.ok() || !cfg.ok()) {
       ADD_FAILURE() << (ds.ok() ? joined(cfg.errors) : ds.error());
@@ -205,7 +205,7 @@ struct KidnappedRun {
     cfg.config.calibration = ds->calibration();
     firmware::SlamEstimator est(cfg.config);
     firmware::Loop loop(cfg.config.loop, est);
-    sim_hal::DatasetSource source = std::move(ds.value());
+    readers::DatasetSource source = std::move(ds.value());
     loop.add_source(&source);
     PoseLog log;
     loop.add_pose_sink(&log);
@@ -221,8 +221,8 @@ double yaw_of(const std::array<double, 4>& q) {
 
 // Planar distance to the ground truth expressed in the estimator's world frame: the body frame
 // at the start (the first ground-truth pose).
-double planar_error(const hal::PoseEstimate& p, const sim_hal::GroundTruthPose& g,
-                    const sim_hal::GroundTruthPose& g0) {
+double planar_error(const hal::PoseEstimate& p, const readers::GroundTruthPose& g,
+                    const readers::GroundTruthPose& g0) {
   const double yaw0 = yaw_of(g0.orientation_wxyz);
   const double dx = g.position_m[0] - g0.position_m[0];
   const double dy = g.position_m[1] - g0.position_m[1];

@@ -19,10 +19,10 @@ firmware::FirmwareConfig config(bool from_calibration) {
   firmware::FirmwareConfig c;
   c.calibration.gyro.scale_error = 0.05;
   c.calibration.gyro.bias_walk = 0.01;
-  c.filter.gyro_scale_error = 0.005;
-  c.filter.gyro_bias_state = true;
-  c.filter.gyro_bias_walk = 0.001;
-  c.filter.gyro_errors_from_calibration = from_calibration;
+  c.slam.odometry.gyro_scale_error = 0.005;
+  c.slam.filter.gyro_bias_state = true;
+  c.slam.filter.gyro_bias_walk = 0.001;
+  c.gyro_errors_from_calibration = from_calibration;
   return c;
 }
 
@@ -76,7 +76,7 @@ TEST(SlamEstimatorGyroErrors, TheFiltersLargerValuesStayWhenTheCalibrationStates
   c.calibration.gyro.scale_error = 0.0;
   c.calibration.gyro.bias_walk = 0.0;
   const Turn on = turn(c);
-  c.filter.gyro_errors_from_calibration = false;
+  c.gyro_errors_from_calibration = false;
   const Turn off = turn(c);
   EXPECT_GT(off.bias_variance, 0.0);
   EXPECT_EQ(on.yaw_variance, off.yaw_variance);

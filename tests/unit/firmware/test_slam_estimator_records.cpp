@@ -21,9 +21,9 @@ constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
 
 TEST(SlamEstimatorRecords, AnUpdateStoppedByTheDepthBoundIsRecordedAsSuch) {
   firmware::FirmwareConfig c;
-  c.filter.consider_young_landmarks = false;
-  c.filter.gate_chi2 = 1e9;  // wild observations pass the gate: only the bound stops them
-  c.filter.max_depth_m = 8.0;
+  c.slam.filter.consider_young_landmarks = false;
+  c.slam.filter.gate_chi2 = 1e9;  // wild observations pass the gate: only the bound stops them
+  c.slam.filter.max_depth_m = 8.0;
   int bounded = 0;
   for (int trial = 0; trial < 4; ++trial) {
     cleanslam::test::FeatureRun run(c, 1.0);
@@ -61,9 +61,9 @@ TEST(SlamEstimatorRecords, AnUpdateStoppedByTheDepthBoundIsRecordedAsSuch) {
 
 TEST(SlamEstimatorRecords, ObservationRejectionsNameTheFiltersReasons) {
   firmware::FirmwareConfig c;
-  c.filter.consider_young_landmarks = false;
-  c.filter.gate_chi2 = 1e9;
-  c.filter.max_depth_m = 8.0;
+  c.slam.filter.consider_young_landmarks = false;
+  c.slam.filter.gate_chi2 = 1e9;
+  c.slam.filter.max_depth_m = 8.0;
   cleanslam::test::FeatureRun run(c, 1.0);
   EXPECT_EQ(run.estimator.observation_rejections().count, 0);
   run.frame(100 * kMs, {{7, 40.0, 120.0}});

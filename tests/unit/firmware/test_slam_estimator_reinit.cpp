@@ -16,7 +16,7 @@ constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
 
 firmware::FirmwareConfig config(bool reinit) {
   firmware::FirmwareConfig c;
-  c.filter.reinit_behind_camera = reinit;
+  c.slam.map.reinit_behind_camera = reinit;
   return c;
 }
 

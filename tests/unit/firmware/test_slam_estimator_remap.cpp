@@ -19,8 +19,8 @@ constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
 // Driving at 0.2 m/s.
 cleanslam::test::FeatureRun remap_run(double remap_px, double min_yaw_std_deg = 0.0) {
   firmware::FirmwareConfig c;
-  c.filter.remap_pixel_std_px = remap_px;
-  c.filter.remap_min_yaw_std_deg = min_yaw_std_deg;
+  c.slam.map.remap_pixel_std_px = remap_px;
+  c.slam.map.remap_min_yaw_std_deg = min_yaw_std_deg;
   return {c, 0.2};
 }
 
@@ -57,9 +57,9 @@ TEST(SlamEstimatorRemap, AnUncertainReSightingIsMappedAgainAndMergedWhenItsTrack
 
 TEST(SlamEstimatorRemap, AnEarlierEntryRecycledByAFullPoolIsNotMergedInto) {
   firmware::FirmwareConfig c;
-  c.filter.remap_pixel_std_px = 0.01;
-  c.filter.remap_min_yaw_std_deg = 0.0;
-  c.filter.max_landmarks = 2;
+  c.slam.map.remap_pixel_std_px = 0.01;
+  c.slam.map.remap_min_yaw_std_deg = 0.0;
+  c.slam.filter.max_landmarks = 2;
   cleanslam::test::FeatureRun run(c, 0.2);
   auto r = run.frame(500 * kMs, {{7, 100.0, 119.5}});
   ASSERT_EQ(r.size(), 1U);
@@ -94,7 +94,7 @@ TEST(SlamEstimatorRemap, AnEarlierEntryRecycledByAFullPoolIsNotMergedInto) {
 TEST(SlamEstimatorRemap, OffOrWithTheHeadingKnownTheReSightingUpdatesTheSameSlot) {
   const firmware::FirmwareConfig defaults;
   for (const double remap_px : {0.0, 0.01}) {
-    auto run = remap_run(remap_px, defaults.filter.remap_min_yaw_std_deg);
+    auto run = remap_run(remap_px, defaults.slam.map.remap_min_yaw_std_deg);
     auto r = run.frame(500 * kMs, {{7, 100.0, 119.5}});
     ASSERT_EQ(r.size(), 1U);
     const int slot = r[0].slot;
@@ -110,9 +110,9 @@ TEST(SlamEstimatorRemap, OffOrWithTheHeadingKnownTheReSightingUpdatesTheSameSlot
 TEST(SlamEstimatorRemap, ThreeMappedLandmarksInViewAreUpdatedDirectly) {
   for (const int max_in_view : {2, 3}) {
     firmware::FirmwareConfig c;
-    c.filter.remap_pixel_std_px = 0.01;
-    c.filter.remap_min_yaw_std_deg = 0.0;
-    c.filter.remap_max_mapped_in_view = max_in_view;
+    c.slam.map.remap_pixel_std_px = 0.01;
+    c.slam.map.remap_min_yaw_std_deg = 0.0;
+    c.slam.map.remap_max_mapped_in_view = max_in_view;
     cleanslam::test::FeatureRun run(c, 0.2);
     const std::vector<hal::FeatureObservation> three{
         {7, 100.0, 119.5}, {8, 200.0, 100.0}, {9, 250.0, 140.0}};

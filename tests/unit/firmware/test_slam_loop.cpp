@@ -15,7 +15,7 @@
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/sinks.hpp"
 #include "cleanslam/firmware/slam_estimator.hpp"
-#include "cleanslam/sim_hal/dataset_source.hpp"
+#include "cleanslam/readers/dataset_source.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
 #include "fakes.hpp"
 
@@ -46,7 +46,7 @@ struct SimulatedRun {
     if (!scenario.ok() || !sim_hal::sim::simulate(*scenario, dir.string()).ok()) {
       return;
     }
-    auto ds = sim_hal::DatasetSource::open(dir.string());
+    auto ds = readers::DatasetSource::open(dir.string());
     if (!ds.ok()) {
       return;
     }
@@ -140,8 +140,8 @@ TEST(SlamLoop, NoHeapAllocationAfterStartupWithTheEkf) {
     ASSERT_TRUE(run.ok);
     FirmwareConfig config;
     config.calibration = run.calibration;
-    config.filter.gyro_bias_state = drift;
-    config.filter.wheel_drift_state = drift;
+    config.slam.filter.gyro_bias_state = drift;
+    config.slam.filter.wheel_drift_state = drift;
     SlamEstimator estimator(config);
     Loop loop(config.loop, estimator);
     test::CollectingSink sink;
@@ -213,7 +213,7 @@ TEST(SlamLoop, SummaryCountsTheMapsChangesAndTheRecords) {
   ASSERT_TRUE(run.ok);
   FirmwareConfig config;
   config.calibration = run.calibration;
-  config.filter.max_landmarks = 8;  // a small pool: landmarks are replaced
+  config.slam.filter.max_landmarks = 8;  // a small pool: landmarks are replaced
   CountedRun counted(run, config);
   const SlamEstimator& estimator = counted.estimator;
   const Loop& loop = counted.loop;
@@ -264,8 +264,8 @@ TEST(SlamLoop, WheelDriftStateLearnsFromEveryPredictionAndIsRecordedAndSummarize
   ASSERT_TRUE(run.ok);
   FirmwareConfig config;
   config.calibration = run.calibration;
-  config.filter.gyro_bias_state = true;
-  config.filter.wheel_drift_state = true;
+  config.slam.filter.gyro_bias_state = true;
+  config.slam.filter.wheel_drift_state = true;
   CountedRun counted(run, config);
   const SlamEstimator& estimator = counted.estimator;
   const Loop& loop = counted.loop;
@@ -274,7 +274,7 @@ TEST(SlamLoop, WheelDriftStateLearnsFromEveryPredictionAndIsRecordedAndSummarize
   ASSERT_TRUE(estimator.wheel_yaw(w));
   ASSERT_TRUE(w.drift_state);
   EXPECT_GT(w.mismatches_fused, 400U);  // 20 Hz encoder intervals over 30 s, in the increments
-  EXPECT_LT(w.state_drift_std, 0.5 * config.filter.wheel_yaw_drift_std_rad_per_m);
+  EXPECT_LT(w.state_drift_std, 0.5 * config.slam.odometry.wheel_yaw.drift_std_rad_per_m);
   EXPECT_TRUE(std::isfinite(w.state_drift_rad_per_m));
   // Each fusion fused at least one scalar update, each gated one refused all (at most two).
   EXPECT_EQ(loop.stats().fusion_records, counting.fusions);

@@ -5,14 +5,15 @@
 #include <fstream>
 #include <sstream>
 
-#include "cleanslam/sim_hal/dataset.hpp"
-#include "cleanslam/sim_hal/dataset_source.hpp"
+#include "cleanslam/readers/dataset.hpp"
+#include "cleanslam/readers/dataset_source.hpp"
+#include "cleanslam/readers/gray_image.hpp"
 #include "cleanslam/sim_hal/dataset_writer.hpp"
-#include "cleanslam/sim_hal/gray_image.hpp"
+#include "cleanslam/sim_hal/gray_image_writer.hpp"
 
 namespace fs = std::filesystem;
 using namespace cleanslam;
-using sim_hal::DatasetSource;
+using readers::DatasetSource;
 using sim_hal::DatasetWriter;
 
 namespace {
@@ -34,8 +35,8 @@ class TempDir {
   fs::path path_;
 };
 
-sim_hal::GrayImage pattern(int w, int h, int seed) {
-  sim_hal::GrayImage img(w, h);
+readers::GrayImage pattern(int w, int h, int seed) {
+  readers::GrayImage img(w, h);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x)
       img.at(x, y) = static_cast<std::uint8_t>((x * 7 + y * 3 + seed) & 0xFF);
@@ -89,14 +90,14 @@ void make_dataset(const std::string& folder, int width = 32, int height = 24,
   w.add_features(250 * hal::kNsPerMillisecond, f1, 2);
   w.add_features(500 * hal::kNsPerMillisecond, f2, 1);
   for (int i = 0; i < 10; ++i) {
-    w.add_groundtruth(sim_hal::GroundTruthPose{
+    w.add_groundtruth(readers::GroundTruthPose{
         i * 100 * hal::kNsPerMillisecond, {0.1 * i, 0.0, 0.0}, {1.0, 0.0, 0.0, 0.0}});
   }
   ASSERT_TRUE(w.close().ok());
 }
 
 std::string load_error(const std::string& folder) {
-  auto d = sim_hal::load_dataset(folder);
+  auto d = readers::load_dataset(folder);
   return d.ok() ? std::string("(loaded)") : d.error();
 }
 
@@ -109,7 +110,7 @@ bool contains(const std::string& s, const std::string& part) {
 TEST(Dataset, WriterAndReaderRoundTrip) {
   TempDir dir;
   make_dataset(dir.str());
-  auto d = sim_hal::load_dataset(dir.str());
+  auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
   EXPECT_TRUE(d->warnings.empty());
   ASSERT_EQ(d->gyro.size(), 100U);
@@ -128,7 +129,7 @@ TEST(Dataset, WriterAndReaderRoundTrip) {
 TEST(Dataset, TickWrapAroundPassesThroughUnchanged) {
   TempDir dir;
   make_dataset(dir.str());
-  auto d = sim_hal::load_dataset(dir.str());
+  auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
   // 2147483600 + 10 * 19 wraps past INT32_MAX.
   for (std::size_t i = 0; i < d->encoders.size(); ++i) {
@@ -143,7 +144,7 @@ TEST(Dataset, TickWrapAroundPassesThroughUnchanged) {
   // Written as unsigned 32-bit values they wrap to the same counters.
   write_file(dir.path() / "encoders.csv",
              "#t_ns,left_ticks,right_ticks\n0,4294967295,-2147483648\n5,2147483647,0\n");
-  auto e = sim_hal::read_encoders_csv((dir.path() / "encoders.csv").string());
+  auto e = readers::read_encoders_csv((dir.path() / "encoders.csv").string());
   ASSERT_TRUE(e.ok()) << e.error();
   EXPECT_EQ((*e)[0].left_ticks, -1);
   EXPECT_EQ((*e)[0].right_ticks, INT32_MIN);
@@ -266,7 +267,7 @@ TEST(Dataset, UnknownYamlKeyIsAWarning) {
   TempDir dir;
   make_dataset(dir.str());
   replace_in_file(dir.path() / "sensors.yaml", "gyro:\n", "gyro:\n  colour: blue\n");
-  auto d = sim_hal::load_dataset(dir.str());
+  auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
   ASSERT_EQ(d->warnings.size(), 1U);
   EXPECT_TRUE(contains(d->warnings[0], "gyro.colour: unknown key, ignored")) << d->warnings[0];
@@ -328,24 +329,24 @@ TEST(Dataset, ImagesRoundTripAsPgmAndPng) {
     const std::string p = (dir.path() / name).string();
     const bool png = std::string(name).ends_with("png");
     ASSERT_TRUE((png ? sim_hal::write_png(p, img.view()) : sim_hal::write_pgm(p, img.view())).ok());
-    sim_hal::GrayImage back;
-    ASSERT_TRUE(sim_hal::read_gray_image(p, back).ok());
+    readers::GrayImage back;
+    ASSERT_TRUE(readers::read_gray_image(p, back).ok());
     EXPECT_EQ(back.width, 40);
     EXPECT_EQ(back.height, 30);
     EXPECT_EQ(back.pixels, img.pixels);
-    auto size = sim_hal::read_gray_image_size(p);
+    auto size = readers::read_gray_image_size(p);
     ASSERT_TRUE(size.ok());
     EXPECT_EQ(size->width, 40);
   }
   write_file(dir.path() / "c.pgm", "P5\n# comment\n4 2\n255\nabcdefg");
-  sim_hal::GrayImage back;
-  auto s = sim_hal::read_gray_image((dir.path() / "c.pgm").string(), back);
+  readers::GrayImage back;
+  auto s = readers::read_gray_image((dir.path() / "c.pgm").string(), back);
   EXPECT_TRUE(!s.ok() && contains(s.error(), "truncated"));
   write_file(dir.path() / "c.pgm", "P5\n4 2\n65535\nabcdefgh");
-  s = sim_hal::read_gray_image((dir.path() / "c.pgm").string(), back);
+  s = readers::read_gray_image((dir.path() / "c.pgm").string(), back);
   EXPECT_TRUE(!s.ok() && contains(s.error(), "not 8-bit"));
   write_file(dir.path() / "c.pgm", "P5\n# comment\n4 2\n255\nabcdefgh");
-  s = sim_hal::read_gray_image((dir.path() / "c.pgm").string(), back);
+  s = readers::read_gray_image((dir.path() / "c.pgm").string(), back);
   ASSERT_TRUE(s.ok()) << s.error();
   EXPECT_EQ(back.at(3, 1), 'h');
 }
@@ -411,7 +412,7 @@ TEST(DatasetSource, LoadsEachImageWhenItIsItsTurn) {
   ASSERT_TRUE(src.ok()) << src.error();
   // Replaced after open: the source must read the new pixels, so it did not preload them.
   ASSERT_TRUE(sim_hal::write_png((dir.path() / "cam0" / "data" / "750000000.png").string(),
-                                 sim_hal::GrayImage(32, 24, 99).view())
+                                 readers::GrayImage(32, 24, 99).view())
                   .ok());
   hal::SensorEvent ev;
   bool seen = false;

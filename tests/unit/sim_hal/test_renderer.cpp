@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <numbers>
 
-#include "cleanslam/sim_hal/dataset.hpp"
-#include "cleanslam/sim_hal/dataset_source.hpp"
+#include "cleanslam/readers/dataset.hpp"
+#include "cleanslam/readers/dataset_source.hpp"
 #include "cleanslam/sim_hal/sim/renderer.hpp"
 #include "cleanslam/sim_hal/sim/scenario.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
@@ -61,7 +61,7 @@ TEST(Renderer, RendersTexturedDeterministicImages) {
   auto sc = room();
   sim::Renderer r1(sc), r2(sc);
   sim::Random a(3), b(3);
-  sim_hal::GrayImage i1, i2;
+  readers::GrayImage i1, i2;
   const auto wc = camera_at(sc, 1.0, 1.0, 0.6);
   r1.render(wc, 1.0, a, i1);
   r2.render(wc, 1.0, b, i2);
@@ -81,7 +81,7 @@ TEST(Renderer, RendersTexturedDeterministicImages) {
   EXPECT_GT(mean, 40.0);
   EXPECT_LT(mean, 200.0);
   // Brighter exposure, brighter image.
-  sim_hal::GrayImage i3;
+  readers::GrayImage i3;
   sim::Random c(3);
   r1.render(wc, 1.3, c, i3);
   double mean3 = 0.0;
@@ -95,7 +95,7 @@ TEST(Renderer, ImagesModeWritesAReadableDataset) {
   fs::remove_all(dir);
   auto sc = room({"camera.mode=both", "duration_s=5", "camera.image_format=pgm"});
   ASSERT_TRUE(sim::simulate(sc, dir.string()).ok());
-  auto src = sim_hal::DatasetSource::open(dir.string());
+  auto src = readers::DatasetSource::open(dir.string());
   ASSERT_TRUE(src.ok()) << src.error();
   hal::SensorEvent ev;
   int frames = 0, with_both = 0;
@@ -139,7 +139,7 @@ TEST(Renderer, PixelsAverageTheirAreaAcrossAnEdge) {
       room({"camera.tilt_deg=0", "world.furniture=[]", "camera.image_noise=0", "camera.blur=0"});
   sim::Renderer r(sc);
   sim::Random rng(1, 1);
-  cleanslam::sim_hal::GrayImage img;
+  cleanslam::readers::GrayImage img;
   int blended = 0;
   // Seen from several distances the foot falls at different sub-pixel rows.
   for (const double x : {2.6, 2.8, 3.0, 3.2, 3.4}) {

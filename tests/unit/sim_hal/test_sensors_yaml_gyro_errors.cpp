@@ -2,18 +2,18 @@
 
 #include <string>
 
-#include "cleanslam/sim_hal/dataset.hpp"
+#include "cleanslam/readers/dataset.hpp"
 #include "cleanslam/sim_hal/sim/scenario.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
 
-namespace cleanslam::sim_hal {
+namespace cleanslam::readers {
 namespace {
 
 TEST(SensorsYamlGyroErrors, SimulatorStatesTheScaleErrorAndBiasWalkItInjects) {
-  sim::Scenario sc;
+  sim_hal::sim::Scenario sc;
   sc.gyro.scale_error = -0.02;
   sc.gyro.bias_walk = 0.0005;
-  const hal::Calibration cal = sim::calibration_of(sc);
+  const hal::Calibration cal = sim_hal::sim::calibration_of(sc);
   EXPECT_DOUBLE_EQ(cal.gyro.scale_error, 0.02);
   EXPECT_DOUBLE_EQ(cal.gyro.bias_walk, 0.0005);
   const auto back = parse_sensors_yaml(sensors_yaml_text(cal), "sensors.yaml", nullptr);
@@ -47,10 +47,10 @@ TEST(SensorsYamlGyroErrors, ANegativeValueIsAnErrorNamingLineAndKey) {
 }
 
 TEST(SensorsYamlWheelScale, SimulatorStatesTheLargerWheelScaleErrorAndItRoundTrips) {
-  sim::Scenario sc;
+  sim_hal::sim::Scenario sc;
   sc.encoders.scale_error_left = 0.08;
   sc.encoders.scale_error_right = -0.12;
-  const hal::Calibration cal = sim::calibration_of(sc);
+  const hal::Calibration cal = sim_hal::sim::calibration_of(sc);
   EXPECT_DOUBLE_EQ(cal.wheels.scale_error, 0.12);
   const auto back = parse_sensors_yaml(sensors_yaml_text(cal), "sensors.yaml", nullptr);
   ASSERT_TRUE(back.ok()) << back.error();
@@ -69,4 +69,4 @@ TEST(SensorsYamlWheelScale, AValueOutsideZeroToOneIsAnErrorNamingLineAndKey) {
 }
 
 }  // namespace
-}  // namespace cleanslam::sim_hal
+}  // namespace cleanslam::readers

@@ -8,9 +8,9 @@
 #include <numbers>
 #include <sstream>
 
-#include "cleanslam/sim_hal/csv.hpp"
-#include "cleanslam/sim_hal/dataset.hpp"
-#include "cleanslam/sim_hal/dataset_source.hpp"
+#include "cleanslam/readers/csv.hpp"
+#include "cleanslam/readers/dataset.hpp"
+#include "cleanslam/readers/dataset_source.hpp"
 #include "cleanslam/sim_hal/sim/random.hpp"
 #include "cleanslam/sim_hal/sim/scenario.hpp"
 #include "cleanslam/sim_hal/sim/sim_math.hpp"
@@ -254,7 +254,7 @@ TEST(Simulator, WritesADatasetTheReaderAccepts) {
   const auto sc = load("default-room", {"duration_s=60"});
   auto sum = sim::simulate(sc, dir.str());
   ASSERT_TRUE(sum.ok()) << sum.error();
-  auto d = sim_hal::load_dataset(dir.str());
+  auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
   EXPECT_TRUE(d->warnings.empty());
   EXPECT_EQ(static_cast<int>(d->gyro.size()), sum->gyro_samples);
@@ -277,12 +277,12 @@ TEST(Simulator, FeaturesAreProjectionsThroughTheWrittenCalibration) {
   TempDir dir;
   const auto sc = load("default-room", with(kNoiseFree, {"duration_s=80"}));
   ASSERT_TRUE(sim::simulate(sc, dir.str()).ok());
-  auto d = sim_hal::load_dataset(dir.str());
+  auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
   std::map<std::int64_t, std::array<double, 3>> lm;
-  ASSERT_TRUE(sim_hal::read_csv(dir.sub("sim_landmarks.csv"),
-                                sim_hal::CsvSpec{{"id", "x_m", "y_m", "z_m"}, {}},
-                                [&](const sim_hal::CsvRow& r) -> std::string {
+  ASSERT_TRUE(readers::read_csv(dir.sub("sim_landmarks.csv"),
+                                readers::CsvSpec{{"id", "x_m", "y_m", "z_m"}, {}},
+                                [&](const readers::CsvRow& r) -> std::string {
                                   lm[*r.integer(0)] = {*r.number(1), *r.number(2), *r.number(3)};
                                   return {};
                                 })
@@ -338,7 +338,7 @@ TEST(Simulator, NoiseFreeOdometryReproducesGroundTruth) {
   TempDir dir;
   const auto sc = load("default-room", with(kNoiseFree, {"duration_s=120"}));
   ASSERT_TRUE(sim::simulate(sc, dir.str()).ok());
-  auto d = sim_hal::load_dataset(dir.str());
+  auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
   const auto& cal = d->calibration;
   double yaw = 0.0, x = d->groundtruth[0].position_m[0], y = d->groundtruth[0].position_m[1];
@@ -379,7 +379,7 @@ TEST(Simulator, GyroNoiseAndBiasFollowTheScenario) {
                        {"duration_s=200", "path.stops=[{at_s: 0, duration_s: 300}]",
                         "gyro.noise_density=0.002", "gyro.initial_bias=0.003", "gyro.bias_walk=0"});
   ASSERT_TRUE(sim::simulate(sc, dir.str()).ok());
-  auto d = sim_hal::load_dataset(dir.str());
+  auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
   double sum = 0.0, sum2 = 0.0;
   for (const auto& g : d->gyro) sum += g.wz_rad_s;
@@ -397,7 +397,7 @@ TEST(Simulator, TickCountersWrapAt32Bits) {
   TempDir dir;
   const auto sc = load("default-room", {"duration_s=30", "robot.initial_ticks=2147480000"});
   ASSERT_TRUE(sim::simulate(sc, dir.str()).ok());
-  auto e = sim_hal::read_encoders_csv(dir.sub("encoders.csv"));
+  auto e = readers::read_encoders_csv(dir.sub("encoders.csv"));
   ASSERT_TRUE(e.ok()) << e.error();
   bool wrapped = false;
   std::int64_t total = 0;
@@ -417,7 +417,7 @@ TEST(Simulator, KidnappedRobotIsLiftedAndMoved) {
   TempDir dir;
   const auto sc = load("kidnapped", {"duration_s=200"});
   ASSERT_TRUE(sim::simulate(sc, dir.str()).ok());
-  auto d = sim_hal::load_dataset(dir.str());
+  auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
   double max_z = 0.0;
   hal::TimeNs lift_start = -1, lift_end = -1;
@@ -445,7 +445,7 @@ TEST(Simulator, KidnappedRobotIsLiftedAndMoved) {
   EXPECT_FALSE(d->lift[1].lifted);
   EXPECT_NEAR(hal::to_seconds(d->lift[0].t_ns - lift_start), 0.0, 0.011);
   EXPECT_NEAR(hal::to_seconds(d->lift[1].t_ns - lift_end), 0.0, 0.011);
-  auto src = sim_hal::DatasetSource::open(dir.str());
+  auto src = readers::DatasetSource::open(dir.str());
   ASSERT_TRUE(src.ok()) << src.error();
   hal::SensorEvent ev;
   std::vector<bool> lifts;
@@ -471,7 +471,7 @@ TEST(Simulator, SparsePoorOdometryIsSparse) {
   EXPECT_EQ(sum->landmarks, 15);
   EXPECT_LT(sum->mean_features, 1.0);
   EXPECT_GT(sum->longest_gap_s, 20.0);
-  auto d = sim_hal::load_dataset(dir.str());
+  auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
   std::map<hal::TimeNs, int> per_frame;
   for (const auto& f : d->features) ++per_frame[f.t_ns];

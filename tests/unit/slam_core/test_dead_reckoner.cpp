@@ -84,6 +84,18 @@ class Drive {
   std::normal_distribution<double> noise_{0.0, 1.0};
 };
 
+// The gyro's heading alone, without the persistent-error terms, the standstill hold and the
+// wheel-yaw fusion the robot runs with (DeadReckoningConfig's defaults): the tests that isolate
+// the gyro's mechanism, or compare another against it, set these explicitly.
+cs::DeadReckoningConfig gyro_only() {
+  cs::DeadReckoningConfig c;
+  c.gyro_bias_correlation_time_s = 0.0;
+  c.gyro_scale_error = 0.0;
+  c.hold_heading_when_still = false;
+  c.wheel_yaw.enabled = false;
+  return c;
+}
+
 }  // namespace
 
 TEST(DeadReckoner, StraightLineIncrementsSumToTravelledDistance) {
@@ -126,7 +138,7 @@ TEST(DeadReckoner, InterpolatesToFrameTime) {
 
 TEST(DeadReckoner, ArcMatchesTrueMotionThroughTheExtrinsic) {
   const hal::Calibration cal;  // camera 0.10 m ahead of the wheel axis, 0.08 m up
-  cs::DeadReckoner dr(cal, cs::DeadReckoningConfig{});
+  cs::DeadReckoner dr(cal, gyro_only());
   Drive drive(dr, cal);
   drive.v = [](double) { return 0.2; };
   drive.w = [](double) { return 0.4; };
@@ -324,7 +336,7 @@ cs::OdometryIncrement arc_increment(const hal::Calibration& cal, const cs::DeadR
 
 TEST(DeadReckoner, PersistentErrorsInflateQByCorrelationTimeAndLength) {
   const hal::Calibration cal;
-  cs::DeadReckoningConfig plain;
+  cs::DeadReckoningConfig plain = gyro_only();
   plain.z_noise_m_per_sqrt_m = 0.0;
   plain.roll_pitch_noise_rad_per_sqrt_m = 0.0;
   cs::DeadReckoningConfig persistent = plain;
@@ -385,7 +397,7 @@ TEST(DeadReckoner, DuDbiasIsTheNumericalDerivativeOfTheIncrementByAGyroOffset) {
 
 TEST(DeadReckoner, DuDscaleIsTheNumericalDerivativeOfTheIncrementByAWheelScale) {
   const hal::Calibration cal;
-  const cs::DeadReckoningConfig c;
+  const cs::DeadReckoningConfig c = gyro_only();
   // Wheels that count (1 + s) times the calibrated ticks per metre make the reckoner measure a
   // distance 1 + s times too short: the true increment is u(s) + du_dscale s.
   const auto run = [&](double s) {
@@ -417,7 +429,7 @@ TEST(DeadReckoner, DuDscaleIsTheNumericalDerivativeOfTheIncrementByAWheelScale) 
 
 TEST(DeadReckoner, HoldsTheHeadingWhileTheWheelsStandStill) {
   const hal::Calibration cal;
-  cs::DeadReckoningConfig held;
+  cs::DeadReckoningConfig held = gyro_only();
   held.hold_heading_when_still = true;
   const auto still_then_turn = [&](const cs::DeadReckoningConfig& c, double& yaw_still,
                                    double& var_still, double& yaw_turned) {
@@ -442,7 +454,7 @@ TEST(DeadReckoner, HoldsTheHeadingWhileTheWheelsStandStill) {
   double yaw_free = 0.0;
   double var_free = 0.0;
   double turn_free = 0.0;
-  still_then_turn(cs::DeadReckoningConfig{}, yaw_free, var_free, turn_free);
+  still_then_turn(gyro_only(), yaw_free, var_free, turn_free);
   // Only the first standstill window (0.5 s) is integrated: 0.01 rad of bias, 0.007 of noise; the
   // gyro's own standstill test never passes, so without the hold 10 s of bias (0.2 rad) are.
   EXPECT_LT(std::abs(yaw_held), 0.04);
@@ -501,7 +513,7 @@ TEST(DeadReckoner, DuDbiasWithWheelYawFusionIsTheNumericalDerivativeByAGyroOffse
   hal::Calibration cal;
   cal.gyro.noise_density = 0.05;
   cal.wheels.distance_noise = 0.3;
-  cs::DeadReckoningConfig c;
+  cs::DeadReckoningConfig c = gyro_only();
   c.wheel_yaw.enabled = true;
   c.wheel_yaw.window_intervals = 1000000;  // the calibration does not move within the test
   const cs::OdometryIncrement u = increment_with_gyro_offset(cal, c, 0.0);
@@ -509,7 +521,7 @@ TEST(DeadReckoner, DuDbiasWithWheelYawFusionIsTheNumericalDerivativeByAGyroOffse
   EXPECT_LT((u.du_dbias - numeric).cwiseAbs().maxCoeff(), 1e-6) << u.du_dbias.transpose() << "\n"
                                                                 << numeric.transpose();
   // The wheels carry part of the heading: it is less sensitive to the gyro's bias.
-  const cs::OdometryIncrement g = increment_with_gyro_offset(cal, cs::DeadReckoningConfig{}, 0.0);
+  const cs::OdometryIncrement g = increment_with_gyro_offset(cal, gyro_only(), 0.0);
   EXPECT_LT(u.du_dbias.tail<3>().norm(), 0.9 * g.du_dbias.tail<3>().norm());
   EXPECT_GT(u.du_dbias.tail<3>().norm(), 0.1 * g.du_dbias.tail<3>().norm());
 }

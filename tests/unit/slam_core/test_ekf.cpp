@@ -135,6 +135,7 @@ TEST_F(EkfTest, BatchJosephUpdateMatchesDenseTextbookUpdate) {
   cs::EkfConfig full;
   full.consider_young_landmarks = false;  // the optimal gain; test_ekf_consider.cpp masks it
   full.depth_bounds = false;              // one young landmark would be moved behind the camera
+  full.invariant_reset = false;  // the textbook update; test_ekf_invariant_reset.cpp maps it
   make(full);
   ASSERT_EQ(add_landmarks(8), 8);
   move(0.3, 0.1);

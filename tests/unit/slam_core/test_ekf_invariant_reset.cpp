@@ -21,6 +21,7 @@ namespace {
 std::unique_ptr<cs::Ekf> make_ekf(bool invariant_reset) {
   cs::EkfConfig config;
   config.invariant_reset = invariant_reset;
+  config.merge_considers_kept = false;  // merges correct both entries, as the dense map assumes
   config.consider_young_landmarks = false;
   config.gate_chi2 = 1e6;
   config.gate_pixel_chi2 = 0.0;

@@ -35,6 +35,7 @@ cs::EkfConfig merge_config(bool considers_kept, bool across_ray = false) {
   cs::EkfConfig config;
   config.merge_considers_kept = considers_kept;
   config.merge_across_ray = across_ray;
+  config.invariant_reset = false;  // the dense references are the plain updates
   return config;
 }
 

@@ -3,7 +3,7 @@
 #include <cstddef>
 #include <string>
 
-#include "cleanslam/sim_hal/log_source.hpp"
+#include "cleanslam/readers/log_source.hpp"
 
 namespace cleanslam::firmware {
 
@@ -19,8 +19,8 @@ struct OutputComparison {
 
 // With `original_truncated`, a replay may go on past the last output that survived the cut (the
 // outputs of the last recorded iteration may be missing from the original).
-OutputComparison compare_outputs(const sim_hal::LogReader& original,
-                                 const sim_hal::LogReader& replayed,
+OutputComparison compare_outputs(const readers::LogReader& original,
+                                 const readers::LogReader& replayed,
                                  bool original_truncated = false);
 
 }  // namespace cleanslam::firmware

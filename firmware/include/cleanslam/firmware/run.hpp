@@ -4,7 +4,7 @@
 
 #include "cleanslam/firmware/clocks.hpp"
 #include "cleanslam/firmware/loop.hpp"
-#include "cleanslam/sim_hal/log_source.hpp"
+#include "cleanslam/readers/log_source.hpp"
 
 namespace cleanslam::firmware {
 
@@ -49,7 +49,7 @@ RunEnd run_virtual(Loop& loop, VirtualClock& clock, bool realtime, const StopSig
 
 // Bit-exact replay: iterates at the recorded iteration times, each with the events the recording
 // loop ingested in it.
-RunEnd run_recorded(Loop& loop, VirtualClock& clock, sim_hal::LogSource& log,
+RunEnd run_recorded(Loop& loop, VirtualClock& clock, readers::LogSource& log,
                     const StopSignals* signals);
 
 }  // namespace cleanslam::firmware

@@ -6,8 +6,8 @@
 #include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/hal/frame.hpp"
 #include "cleanslam/hal/samples.hpp"
-#include "cleanslam/sim_hal/dataset.hpp"
-#include "cleanslam/sim_hal/result.hpp"
+#include "cleanslam/readers/dataset.hpp"
+#include "cleanslam/readers/result.hpp"
 
 namespace cleanslam::sim_hal {
 
@@ -22,21 +22,21 @@ class DatasetWriter {
   DatasetWriter& operator=(const DatasetWriter&) = delete;
 
   // Creates the folder (and parents), sensors.yaml, gyro.csv and encoders.csv.
-  Status open(const std::string& folder, const hal::Calibration& calibration,
-              ImageFormat image_format = ImageFormat::kPng);
+  readers::Status open(const std::string& folder, const hal::Calibration& calibration,
+                       ImageFormat image_format = ImageFormat::kPng);
   void add_gyro(const hal::GyroSample& g);
   void add_encoder(const hal::EncoderSample& e);
   // Writes cam0/data/<t_ns>.png (or .pgm) and its row in cam0/data.csv.
-  Status add_image(hal::TimeNs t_ns, const hal::GrayImageView& image);
+  readers::Status add_image(hal::TimeNs t_ns, const hal::GrayImageView& image);
   void add_features(hal::TimeNs t_ns, const hal::FeatureObservation* features, int count);
-  void add_groundtruth(const GroundTruthPose& p);
+  void add_groundtruth(const readers::GroundTruthPose& p);
   // lift.csv (format extension): a change of the wheel-drop state.
-  void add_lift(const LiftRow& l);
+  void add_lift(const readers::LiftRow& l);
   // Flushes and closes every file; reports a write error on any of them.
-  Status close();
+  readers::Status close();
 
  private:
-  Status open_stream(std::ofstream& out, const std::string& relative, const char* header);
+  readers::Status open_stream(std::ofstream& out, const std::string& relative, const char* header);
 
   std::string folder_;
   ImageFormat image_format_ = ImageFormat::kPng;

@@ -48,7 +48,7 @@ struct DeadReckoningConfig {
   // (std. dev. gyro.bias_instability) adds bias_instability^2 * T * dt to the heading variance,
   // the distance scale (std. dev. wheels.distance_noise) adds distance_noise^2 * L * |d| along
   // the track; 0 disables either.
-  double gyro_bias_correlation_time_s = 0.0;
+  double gyro_bias_correlation_time_s = 10.0;
   double distance_scale_correlation_m = 0.0;
   // The filter estimates the gyro bias (EkfConfig::gyro_bias_state): Q leaves out both bias terms
   // (within one increment and gyro_bias_correlation_time_s).
@@ -59,9 +59,9 @@ struct DeadReckoningConfig {
   // A differential drive whose wheels did not turn for standstill_window_s does not rotate: the
   // gyro is not integrated then (heading and its variance held), whatever its noise. The gyro
   // test of standing_still() cannot see that through a noisy gyro.
-  bool hold_heading_when_still = false;
+  bool hold_heading_when_still = true;
   // Relative gyro scale error, one value within an increment (like the distance scale).
-  double gyro_scale_error = 0.0;
+  double gyro_scale_error = 0.005;
   // The heading from the gyro and the wheels together (wheel_yaw_fusion.hpp); off: the gyro's.
   WheelYawFusionConfig wheel_yaw;
   // With wheel_yaw: the filter holds the gyro bias and the wheels' drift per metre as states

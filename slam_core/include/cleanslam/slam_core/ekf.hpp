@@ -85,6 +85,11 @@ class Ekf {
 
   void delete_landmark(int slot);
 
+  // The camera pose estimate moved to camera_pose, its covariance and the landmarks unchanged:
+  // the pose found again against the map after it was lost (Relocalizer). False, with nothing
+  // changed, for a pose not finite or while an update is pending.
+  bool relocate(const Vector6d& camera_pose);
+
   // Two slots that hold the same point (a landmark mapped again after the pose was lost, and its
   // earlier map entry): the linear update with the constraint y_keep - y_drop = 0 (std. dev.
   // merge_std_m per axis), gated at gate_chi2 on its 3 dof (2 with EkfConfig::merge_across_ray;

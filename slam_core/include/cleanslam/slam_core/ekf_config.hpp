@@ -70,13 +70,13 @@ struct EkfConfig {
   // rotation that no measurement can observe then stays unobserved, as in the invariant EKF of
   // Barrau and Bonnabel (2015); without it each correction claims a little of it (the EKF-SLAM
   // inconsistency of Huang et al.), and a heading that is lost still looks known.
-  bool invariant_reset = false;
+  bool invariant_reset = true;
   // Merges (merge_landmarks) treat the kept entry as a considered state (Schmidt): the merge
   // corrects the robot and the rest of the map through their correlations with the two entries,
   // and neither moves the kept entry nor shrinks its covariance. Without it every merge pulls the
   // earlier map toward a remapped entry built from a drifted pose, and the map's claimed accuracy
   // compounds over the merges of a run.
-  bool merge_considers_kept = false;
+  bool merge_considers_kept = true;
   // The innovation covariance of a camera measurement includes the second-order terms of eq. 21
   // in the yaw (yaw_curvature_covariance): a measurement made while the yaw is uncertain
   // corrects less than the linearization claims.

@@ -1,8 +1,11 @@
 #pragma once
 
+#include <cstdint>
+
 #include "cleanslam/slam_core/dead_reckoner.hpp"
 #include "cleanslam/slam_core/ekf_config.hpp"
 #include "cleanslam/slam_core/frontend/frame_pipeline.hpp"
+#include "cleanslam/slam_core/relocalizer_config.hpp"
 
 namespace cleanslam::slam_core {
 
@@ -22,6 +25,13 @@ struct MapConfig {
   double remap_merge_gate_chi2 = 0.0;
   // Frames with track ids: no visual update with fewer inliers.
   int features_min_inliers = 1;
+  // After a set-down (the wheel-drop switch released): a new map, or the map kept and the pose
+  // relocalized against it, the carry being an unknown planar displacement with zero mean and
+  // these std. devs. (x and y, yaw).
+  enum class SetDown : std::uint8_t { kNewMap, kRelocalize };
+  SetDown on_set_down = SetDown::kNewMap;
+  double relocalize_std_m = 0.3;
+  double relocalize_std_yaw_deg = 20.0;
 };
 
 // Everything the estimator is configured with. Each key is listed once, with its name, default,
@@ -31,6 +41,12 @@ struct SlamConfig {
   DeadReckoningConfig odometry;
   frontend::FramePipelineConfig frontend;
   MapConfig map;
+  // Image frames after a relocalizing set-down: the map found again by appearance and geometry.
+  RelocalizerConfig relocalizer;
+  // The gyro's scale error and bias walk are at least the calibration's (hal::GyroCalibration).
+  bool gyro_errors_from_calibration = false;
+  // Work of one bounded part of the EKF's batch update (Ekf::set_update_step); 0: unbounded.
+  std::int64_t update_work_step = 0;
 };
 
 }  // namespace cleanslam::slam_core

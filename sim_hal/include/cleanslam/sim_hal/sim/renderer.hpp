@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "cleanslam/sim_hal/gray_image.hpp"
+#include "cleanslam/readers/gray_image.hpp"
 #include "cleanslam/sim_hal/sim/random.hpp"
 #include "cleanslam/sim_hal/sim/scenario.hpp"
 #include "cleanslam/sim_hal/sim/sim_math.hpp"
@@ -20,7 +20,7 @@ class Renderer {
 
   // Renders the view from `world_camera` (optical frame: z forward, x right, y down) with
   // brightness gain `exposure` (1 = nominal); `rng` draws the pixel noise.
-  void render(const Pose3& world_camera, double exposure, Random& rng, GrayImage& out);
+  void render(const Pose3& world_camera, double exposure, Random& rng, readers::GrayImage& out);
 
   // Albedo in [0, 1] of surface `surface` at surface coordinates (a, b) in metres. Surfaces:
   // 0 floor, 1 ceiling, 2..5 walls, 6.. furniture boxes.

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "cleanslam/sim_hal/result.hpp"
+#include "cleanslam/readers/result.hpp"
 #include "cleanslam/sim_hal/sim/sim_math.hpp"
 
 // A simulation scenario: the world, the robot's path and every sensor's noise, read from YAML
@@ -148,7 +148,7 @@ std::string builtin_scenario_text(const std::string& name);
 
 // Loads a scenario by built-in name or file path; `overrides` are "key.path=value" (value in YAML
 // syntax, e.g. "camera.rate_hz=1" or "world.size=[8, 6, 2.5]"). Unknown keys are errors.
-Result<Scenario> load_scenario(const std::string& name_or_path,
-                               const std::vector<std::string>& overrides = {});
+readers::Result<Scenario> load_scenario(const std::string& name_or_path,
+                                        const std::vector<std::string>& overrides = {});
 
 }  // namespace cleanslam::sim_hal::sim

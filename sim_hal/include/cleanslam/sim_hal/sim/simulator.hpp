@@ -7,7 +7,7 @@
 
 #include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/hal/frame.hpp"
-#include "cleanslam/sim_hal/result.hpp"
+#include "cleanslam/readers/result.hpp"
 #include "cleanslam/sim_hal/sim/scenario.hpp"
 #include "cleanslam/sim_hal/sim/sim_math.hpp"
 #include "cleanslam/sim_hal/sim/world.hpp"
@@ -64,7 +64,7 @@ struct SimulationSummary {
 // Simulates the scenario and writes a dataset folder (docs/dataset-format.md) plus
 // sim_landmarks.csv (#id,x_m,y_m,z_m: the true static landmarks, not part of the format).
 // `progress` (optional) receives the fraction done.
-Result<SimulationSummary> simulate(const Scenario& scenario, const std::string& out_dir,
-                                   const std::function<void(double)>& progress = {});
+readers::Result<SimulationSummary> simulate(const Scenario& scenario, const std::string& out_dir,
+                                            const std::function<void(double)>& progress = {});
 
 }  // namespace cleanslam::sim_hal::sim

@@ -115,6 +115,13 @@ class FramePipeline {
   // Forgets every landmark and patch and abandons the frame in progress, as when the estimator
   // starts a new map (the robot set down after a lift). Allocates nothing.
   void forget_map();
+  // Every landmark leaves the search (its patch is kept): the map is not where the pose says
+  // (relocalizing after a set-down).
+  void suspend_map();
+  // A suspended landmark is searched again (LandmarkBook::resume).
+  void resume(int slot);
+  // A landmark the map's management deleted.
+  void forget(int slot);
 
   // Starts a frame. A wrong image is rejected (the report says why; describe() words it) and the
   // frame is done at once. allow_update false (robot standing still, Section 2.4) tracks and

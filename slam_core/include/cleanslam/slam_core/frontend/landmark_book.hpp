@@ -31,6 +31,9 @@ class LandmarkBook {
 
   void activate(int slot);
   void remove(int slot);
+  // Active again after a long gap (relocalized against the map): no longer young, and not
+  // matched for long (Tracker::track's reacquisition).
+  void resume(int slot);
   [[nodiscard]] bool active(int slot) const;
   [[nodiscard]] int active_count() const { return active_count_; }
   // Records a frame's outcome for a landmark searched in it; returns true when the landmark has

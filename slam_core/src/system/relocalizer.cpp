@@ -1,0 +1,228 @@
+#include "cleanslam/slam_core/relocalizer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cleanslam::slam_core {
+
+namespace {
+constexpr std::array<double, 3> kScales{0.75, 1.0, 1.33};
+constexpr double kMinPairM = 0.3;
+constexpr double kMaxRangeM = 15.0;
+}  // namespace
+
+Relocalizer::Relocalizer(const CameraModel& camera, const RelocalizerConfig& config)
+    : camera_(camera), config_(config) {}
+
+void Relocalizer::begin(const hal::GrayImageView& image, const frontend::Corner* corners,
+                        int corner_count, const Vector6d& camera_pose) {
+  image_ = image;
+  corners_ = corners;
+  corner_count_ = corner_count;
+  pose_ = camera_pose;
+  R_rp_ = rotation_zyx(camera_pose(3), camera_pose(4), 0.0);
+  candidate_count_ = 0;
+  row_ = 0;
+  best_score_ = 0;
+  second_score_ = 0;
+  best_inliers_.fill(false);
+}
+
+float Relocalizer::ncc_at(const frontend::PatchTemplate& tmpl, double u, double v) const {
+  const int x0 = static_cast<int>(std::lround(u)) - frontend::kPatchRadius;
+  const int y0 = static_cast<int>(std::lround(v)) - frontend::kPatchRadius;
+  if (x0 < 0 || y0 < 0 || x0 + frontend::kPatchSize > image_.width ||
+      y0 + frontend::kPatchSize > image_.height || !(tmpl.sum_sq > 0.0F)) {
+    return 0.0F;
+  }
+  float sum = 0.0F;
+  float sum_sq = 0.0F;
+  float cross = 0.0F;
+  for (int y = 0; y < frontend::kPatchSize; ++y) {
+    const std::uint8_t* row = image_.row(y0 + y) + x0;
+    for (int x = 0; x < frontend::kPatchSize; ++x) {
+      const auto p = static_cast<float>(row[x]);
+      sum += p;
+      sum_sq += p * p;
+      cross += p * tmpl.zero_mean[static_cast<std::size_t>(y * frontend::kPatchSize + x)];
+    }
+  }
+  constexpr auto kN = static_cast<float>(frontend::kPatchSize * frontend::kPatchSize);
+  const float var = sum_sq - sum * sum / kN;
+  if (!(var > 0.0F)) {
+    return 0.0F;
+  }
+  return cross / std::sqrt(var * tmpl.sum_sq);
+}
+
+bool Relocalizer::level_position(double u_px, double v_px, const Eigen::Vector3d& landmark,
+                                 Eigen::Vector2d& q) const {
+  Eigen::Vector2d n;
+  if (!camera_.undistort(u_px, v_px, n)) {
+    return false;
+  }
+  const Eigen::Vector3d d = R_rp_ * CameraModel::ray(n);
+  const double h = std::hypot(d.x(), d.y());
+  if (!(h > 0.0)) {
+    return false;
+  }
+  const double tan_e = d.z() / h;
+  const double dz = landmark.z() - pose_(2);
+  if (!(std::abs(tan_e) >= config_.min_elevation_tan)) {
+    return false;
+  }
+  const double dist = dz / tan_e;
+  if (!(dist > 0.0 && dist < kMaxRangeM)) {
+    return false;
+  }
+  q = Eigen::Vector2d(d.x(), d.y()) * (dist / h);
+  return true;
+}
+
+void Relocalizer::consider(const Candidate& c) {
+  if (candidate_count_ < kMaxCandidates) {
+    candidates_[static_cast<std::size_t>(candidate_count_++)] = c;
+    return;
+  }
+  auto worst =
+      std::min_element(candidates_.begin(), candidates_.end(),
+                       [](const Candidate& a, const Candidate& b) { return a.ncc < b.ncc; });
+  if (worst->ncc < c.ncc) {
+    *worst = c;
+  }
+}
+
+void Relocalizer::add_landmark(int slot, const Eigen::Vector3d& position,
+                               const frontend::LandmarkPatch& patch) {
+  // The best corners of this landmark, at any of the scales.
+  constexpr int kMaxPerLandmark = 8;
+  std::array<int, kMaxPerLandmark> best_corner{};
+  std::array<float, kMaxPerLandmark> best_ncc{};
+  const int keep = std::min(config_.candidates_per_landmark, kMaxPerLandmark);
+  int n = 0;
+  for (const double scale : kScales) {
+    if (!frontend::make_template(patch, scale, 3.0F, template_)) {
+      continue;
+    }
+    for (int i = 0; i < corner_count_; ++i) {
+      const float ncc = ncc_at(template_, corners_[i].x, corners_[i].y);
+      if (!(ncc >= config_.min_ncc)) {
+        continue;
+      }
+      int at = -1;
+      for (int k = 0; k < n; ++k) {
+        at = best_corner[static_cast<std::size_t>(k)] == i ? k : at;
+      }
+      if (at < 0 && n < keep) {
+        at = n++;
+        best_ncc[static_cast<std::size_t>(at)] = -1.0F;
+      }
+      if (at < 0) {
+        at = static_cast<int>(std::min_element(best_ncc.begin(), best_ncc.begin() + n) -
+                              best_ncc.begin());
+      }
+      if (best_ncc[static_cast<std::size_t>(at)] < ncc) {
+        best_ncc[static_cast<std::size_t>(at)] = ncc;
+        best_corner[static_cast<std::size_t>(at)] = i;
+      }
+    }
+  }
+  for (int k = 0; k < n; ++k) {
+    Candidate c;
+    c.slot = slot;
+    c.landmark = position;
+    const frontend::Corner& corner = corners_[best_corner[static_cast<std::size_t>(k)]];
+    c.u_px = corner.x;
+    c.v_px = corner.y;
+    c.ncc = best_ncc[static_cast<std::size_t>(k)];
+    c.has_q = level_position(c.u_px, c.v_px, position, c.q);
+    consider(c);
+  }
+}
+
+int Relocalizer::score(double x, double y, double yaw) {
+  counted_.fill(false);
+  const Eigen::Matrix3d R = rotation_zyx(pose_(3), pose_(4), yaw);
+  const Eigen::Vector3d t(x, y, pose_(2));
+  const double r2 = config_.inlier_px * config_.inlier_px;
+  int inliers = 0;
+  for (int k = 0; k < candidate_count_; ++k) {
+    const Candidate& c = candidates_[static_cast<std::size_t>(k)];
+    if (counted_[static_cast<std::size_t>(c.slot)]) {
+      continue;
+    }
+    Eigen::Vector2d px;
+    if (!camera_.project(R.transpose() * (c.landmark - t), px, nullptr)) {
+      continue;
+    }
+    const double du = px.x() - c.u_px;
+    const double dv = px.y() - c.v_px;
+    if (du * du + dv * dv <= r2) {
+      counted_[static_cast<std::size_t>(c.slot)] = true;
+      ++inliers;
+    }
+  }
+  return inliers;
+}
+
+int Relocalizer::shared_with_best() const {
+  int n = 0;
+  for (std::size_t s = 0; s < counted_.size(); ++s) {
+    n += counted_[s] && best_inliers_[s] ? 1 : 0;
+  }
+  return n;
+}
+
+bool Relocalizer::search_step() {
+  const int end = std::min(candidate_count_, row_ + std::max(1, config_.rows_per_step));
+  for (; row_ < end; ++row_) {
+    const Candidate& a = candidates_[static_cast<std::size_t>(row_)];
+    if (!a.has_q) {
+      continue;
+    }
+    for (int j = row_ + 1; j < candidate_count_; ++j) {
+      const Candidate& b = candidates_[static_cast<std::size_t>(j)];
+      if (!b.has_q || b.slot == a.slot) {
+        continue;
+      }
+      const Eigen::Vector2d mapped = (b.landmark - a.landmark).head<2>();
+      const Eigen::Vector2d seen = b.q - a.q;
+      const double len = mapped.norm();
+      if (len < kMinPairM || std::abs(len - seen.norm()) >
+                                 config_.pair_tolerance_m + config_.pair_tolerance_fraction * len) {
+        continue;
+      }
+      const double yaw =
+          wrap_angle(std::atan2(mapped.y(), mapped.x()) - std::atan2(seen.y(), seen.x()));
+      const Eigen::Rotation2D<double> R(yaw);
+      const Eigen::Vector2d xy = 0.5 * ((a.landmark + b.landmark).head<2>() - R * (a.q + b.q));
+      const int s = score(xy.x(), xy.y(), yaw);
+      if (s <= second_score_) {
+        continue;
+      }
+      // Another pose, not the best one seen again, when most of its inliers are other landmarks.
+      const bool other = 2 * shared_with_best() < std::min(s, best_score_);
+      if (s > best_score_) {
+        if (other) {
+          second_score_ = best_score_;
+        }
+        best_score_ = s;
+        best_inliers_ = counted_;
+        best_ << xy.x(), xy.y(), pose_(2), pose_(3), pose_(4), yaw;
+      } else if (other) {
+        second_score_ = s;
+      }
+    }
+  }
+  return row_ >= candidate_count_;
+}
+
+bool Relocalizer::found(Vector6d& camera_pose) const {
+  if (best_score_ < config_.min_inliers || best_score_ < second_score_ + config_.min_margin) {
+    return false;
+  }
+  camera_pose = best_;
+  return true;
+}
+
+}  // namespace cleanslam::slam_core

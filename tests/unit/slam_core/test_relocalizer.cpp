@@ -1,0 +1,100 @@
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/Core>
+
+#include "cleanslam/slam_core/camera_model.hpp"
+#include "cleanslam/slam_core/frontend/harris.hpp"
+#include "cleanslam/slam_core/frontend/patch.hpp"
+#include "cleanslam/slam_core/geometry.hpp"
+#include "cleanslam/slam_core/relocalizer.hpp"
+#include "frontend_synthetic.hpp"
+
+// Relocalizer: an earlier map's landmarks, seen in a frame from a pose far from the filter's, are
+// found by appearance and the planar pose from pairs of them.
+namespace cs = cleanslam::slam_core;
+namespace fe = cleanslam::slam_core::frontend;
+namespace hal = cleanslam::hal;
+
+namespace {
+
+struct Scene {
+  hal::Calibration calibration;
+  cs::CameraModel camera{calibration.camera};
+  cleanslam::test::GrayImage image = cleanslam::test::render(cleanslam::test::Warp{});
+  fe::HarrisDetector detector;
+  cs::Vector6d truth = cs::Vector6d::Zero();
+  std::vector<int> slots;
+  std::vector<Eigen::Vector3d> landmarks;
+  std::vector<fe::LandmarkPatch> patches;
+
+  // Landmarks on the frame's corners at depths from 2 m to 4 m, seen from `truth`.
+  Scene() {
+    truth << 1.5, -0.8, 0.1, 0.0, -0.17, 0.9;
+    detector.detect(image.view(), 320, 240);
+    const Eigen::Matrix3d R = cs::rotation_zyx(truth(3), truth(4), truth(5));
+    for (int i = 0; i < detector.corner_count() && static_cast<int>(slots.size()) < 20; ++i) {
+      const fe::Corner& c = detector.corners()[i];
+      Eigen::Vector2d n;
+      fe::LandmarkPatch patch;
+      if (!camera.undistort(c.x, c.y, n) ||
+          !fe::capture_patch(image.view(), c.x, c.y, 3.0, patch)) {
+        continue;
+      }
+      const double depth = 2.0 + 0.1 * static_cast<double>(slots.size() % 21);
+      slots.push_back(static_cast<int>(slots.size()) * 3);
+      landmarks.push_back(truth.head<3>() + R * cs::CameraModel::ray(n) * depth);
+      patches.push_back(patch);
+    }
+  }
+
+  // The search from a filter pose off by 1.2 m and 70 degrees.
+  bool relocalize(cs::Relocalizer& r, cs::Vector6d& found) const {
+    cs::Vector6d wrong = truth;
+    wrong(0) -= 1.0;
+    wrong(1) += 0.7;
+    wrong(5) -= 1.2;
+    r.begin(image.view(), detector.corners(), detector.corner_count(), wrong);
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+      r.add_landmark(slots[i], landmarks[i], patches[i]);
+    }
+    int steps = 0;
+    while (!r.search_step()) {
+      ++steps;
+    }
+    EXPECT_GT(steps, 1);  // bounded parts
+    return r.found(found);
+  }
+};
+
+}  // namespace
+
+TEST(Relocalizer, FindsThePlanarPoseOfAFrameSeeingTheEarlierMap) {
+  const Scene scene;
+  ASSERT_GE(scene.slots.size(), 12U);
+  cs::Relocalizer r(scene.camera);
+  cs::Vector6d found;
+  ASSERT_TRUE(scene.relocalize(r, found));
+  EXPECT_GE(r.inliers(), 10);
+  EXPECT_NEAR(found(0), scene.truth(0), 0.05);
+  EXPECT_NEAR(found(1), scene.truth(1), 0.05);
+  EXPECT_NEAR(cs::wrap_angle(found(5) - scene.truth(5)), 0.0, 0.02);
+  // Height, roll and pitch are the filter's.
+  EXPECT_EQ(found(2), scene.truth(2));
+  EXPECT_EQ(found(4), scene.truth(4));
+}
+
+TEST(Relocalizer, AMapThatDoesNotFitTheViewIsNotTakenForIt) {
+  Scene scene;
+  // The same appearances, but each landmark somewhere else.
+  for (std::size_t i = 0; i < scene.landmarks.size(); ++i) {
+    const double a = 2.4 * static_cast<double>(i);
+    scene.landmarks[i] += Eigen::Vector3d(1.5 * std::cos(a), 1.5 * std::sin(a), 0.0);
+  }
+  cs::Relocalizer r(scene.camera);
+  cs::Vector6d found;
+  EXPECT_FALSE(scene.relocalize(r, found));
+  EXPECT_GT(r.candidate_count(), 0);
+}
