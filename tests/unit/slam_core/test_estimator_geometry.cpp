@@ -146,8 +146,8 @@ TEST(CameraModel, RejectsBadPixelsAndPointsBehind) {
 // calibration readers' tolerance (hal::camera_mount_error), so the model takes it.
 TEST(CameraModel, AcceptsTheMountsTheCalibrationAccepts) {
   cleanslam::hal::CameraCalibration c;
-  c.T_body_cam = {0.000865, 0.0, 1.0, 0.0, -1.0, 0.0, 0.000865, 0.0,
-                  0.0,      -1.0, 0.0, 0.0, 0.0, 0.0, 0.0,      1.0};
+  c.T_body_cam = {0.000865, 0.0,  1.0, 0.0, -1.0, 0.0, 0.000865, 0.0,
+                  0.0,      -1.0, 0.0, 0.0, 0.0,  0.0, 0.0,      1.0};
   ASSERT_EQ(cleanslam::hal::camera_mount_error(c.T_body_cam), nullptr);
   const cs::CameraModel cam(c);
   EXPECT_TRUE(cam.valid());
