@@ -196,7 +196,8 @@ def describe(r, focal_px):
     if "bearings" in r:
         lines.append(
             f"bearings: {r['bearings']} landmark sightings, camera delay "
-            f"{r['camera_delay_s']:+.2f} s, median error {r['bearing_bias_rad'] * 1e3:+.1f} mrad (the camera's yaw), spread "
+            f"{r['camera_delay_s']:+.2f} s, median error {r['bearing_bias_rad'] * 1e3:+.1f} mrad "
+            "(the camera's yaw), spread "
             f"{r['bearing_sd_rad'] * 1e3:.1f} mrad ({r['bearing_sd_rad'] * focal_px:.2f} px at "
             f"f = {focal_px:g} px; {r['bearing_sd_raw_rad'] * 1e3:.1f} mrad without the delay)")
     return lines
