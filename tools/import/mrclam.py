@@ -54,20 +54,33 @@ def log(msg):
     print(f"mrclam: {msg}", file=sys.stderr, flush=True)
 
 
+STANDSTILL_M, STANDSTILL_RAD = 0.02, 0.02
+
+
 def span(m):
-    """Where both odometry and Vicon exist."""
-    return (max(m.odometry[0, 0], m.groundtruth[0, 0]),
-            min(m.odometry[-1, 0], m.groundtruth[-1, 0]))
+    """Where both odometry and Vicon exist, from the start of Vicon when Vicon shows the robot
+    standing still before the first command (no command is no motion)."""
+    gt, first = m.groundtruth, m.odometry[0, 0]
+    before = gt[gt[:, 0] <= first]
+    still = len(before) > 1 and bool(
+        np.all(np.hypot(before[:, 1] - before[0, 1], before[:, 2] - before[0, 2]) < STANDSTILL_M)
+        and np.all(np.abs(cal.unwrapped_heading(before) - before[0, 3]) < STANDSTILL_RAD))
+    return (gt[0, 0] if still else max(first, gt[0, 0]), min(m.odometry[-1, 0], gt[-1, 0]))
 
 
 class Clock:
-    """MRCLAM's Unix seconds to nanoseconds since a whole second at least 1 s before the start."""
+    """MRCLAM's Unix seconds to nanoseconds since a whole second at least 1 s before the start;
+    vicon() for the Vicon instants, which are the commands' stamps plus the commands' lag."""
 
-    def __init__(self, t0):
+    def __init__(self, t0, lag):
         self.origin = math.floor(t0) - 1.0
+        self.lag = lag
 
     def ns(self, t):
         return np.round((np.asarray(t, dtype=float) - self.origin) * 1e6).astype(np.int64) * 1000
+
+    def vicon(self, t):
+        return self.ns(np.asarray(t, dtype=float) - self.lag)
 
 
 def encoders(m, t0, t1):
@@ -80,15 +93,18 @@ def encoders(m, t0, t1):
     return grid, ticks
 
 
-def gyro(m, t0, t1, kind, rng):
-    """Rates over each interval to the grid's stamps (the first one after t0), and the drawn
-    errors of the mems gyro."""
+def gyro(m, t0, t1, kind, rng, c):
+    """Rates over each interval to the grid's stamps (the first one after t0), on the commands'
+    clock, and the drawn errors of the mems gyro. The commanded one times the measured turn scale
+    (a gyro's driver applies its calibrated scale factor); the mems one from the Vicon heading a
+    lag later."""
     grid = np.arange(t0, t1 + 1e-9, 1.0 / GYRO_HZ)
     if kind == "commanded":
         o = m.odometry
         turn = np.interp(grid, o[:, 0], cal.cumulative(o[:, 0], o[:, 2]))
-        return grid[1:], np.diff(turn) / np.diff(grid), {}
-    heading = np.interp(grid, m.groundtruth[:, 0], cal.unwrapped_heading(m.groundtruth))
+        return grid[1:], c["turn_scale"] * np.diff(turn) / np.diff(grid), {}
+    heading = np.interp(grid + c["lag_s"], m.groundtruth[:, 0],
+                        cal.unwrapped_heading(m.groundtruth))
     rate = np.diff(heading) / np.diff(grid)
     bias = float(rng.choice([-1.0, 1.0]) * rng.uniform(MEMS_BIAS_MIN, MEMS_BIAS_MAX))
     scale = float(rng.normal(0.0, MEMS_SCALE_SD))
@@ -158,19 +174,32 @@ def frames(imgs):
     return chosen[::-1]
 
 
+def body_cam(yaw):
+    """T_body_cam of the forward-looking camera turned by yaw about the body's z axis."""
+    cy, sy = math.cos(yaw), math.sin(yaw)
+    rows = [[sy, 0.0, cy, 0.0], [-cy, 0.0, sy, 0.0], [0.0, -1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]]
+    text = [", ".join(repr(v + 0.0) for v in r) for r in rows]  # exact: orthonormal to 1e-16
+    return "[" + ",\n     ".join(text) + "]"
+
+
 def sensors_yaml(c, kind, mems):
     density = MEMS_DENSITY if kind == "mems" else c["noise_density"]
     bias = MEMS_BIAS_SD if kind == "mems" else abs(c["rate_bias_rad_s"])
-    scale = MEMS_SCALE_SD if kind == "mems" else abs(1.0 - c["turn_scale"])
+    scale = MEMS_SCALE_SD if kind == "mems" else c["turn_scale_sd"]
     pixel = max(0.1, c.get("bearing_sd_rad", 0.0) * FOCAL_PX)
+    yaw = -c.get("bearing_bias_rad", 0.0)
+    offset = c.get("camera_delay_s", 0.0) - c["lag_s"]
+    ticks = TICKS_PER_M / c["distance_scale"]
+    base = WHEEL_BASE_M * c["distance_scale"] / c["turn_scale"]
     method = "\n".join("# " + ln for ln in cal.__doc__.splitlines())
     measured = "\n".join("#   " + ln for ln in cal.describe(c, FOCAL_PX))
     gyro_note = (
         "# gyro: synthesized from the Vicon heading's rate with the errors stated below (drawn: "
         f"bias {mems['bias_rad_s'] * 1e3:+.2f} mrad/s, scale error {mems['scale'] * 100:+.2f} %)"
         if kind == "mems" else
-        "# gyro: the commanded turn rate; noise_density, bias_instability (mean rate error) and "
-        "scale_error (|1 - turn scale|) as measured")
+        "# gyro: the commanded turn rate times the turn scale; noise_density, bias_instability "
+        "(|mean rate error|)\n# and scale_error (the turn scale's std. dev. over each minute) as "
+        "measured")
     return f"""# Imported from the UTIAS MRCLAM dataset by tools/import/mrclam.py (--gyro {kind}).
 # Encoders: the commanded speed and turn rate integrated; camera: a virtual pinhole whose pixel
 # column is the measured bearing (the landmarks at camera height).
@@ -178,8 +207,11 @@ def sensors_yaml(c, kind, mems):
 {method}
 # Measured:
 {measured}
-# pixel_noise: the bearings' spread times fx; wheels.distance_noise, scale_error
-# (|1 - distance scale|) as measured;
+# Calibration: the dataset's clock is the commands' (a Vicon instant t is t - lag on it), so
+# time_offset_s = camera delay - lag; T_body_cam turns the camera by minus the bearings' median
+# error; pixel_noise: the bearings' spread times fx; ticks_per_meter: the importer's 4000 over
+# the distance scale; wheel_base: the importer's 0.235 m times distance scale / turn scale;
+# wheels.distance_noise as measured, scale_error the distance scale's std. dev. over each minute;
 {gyro_note}
 camera:
   width: {WIDTH}
@@ -190,18 +222,15 @@ camera:
   cy: {CY}
   distortion: [0.0, 0.0, 0.0, 0.0]
   T_body_cam:
-    [0.0, 0.0, 1.0, 0.0,
-     -1.0, 0.0, 0.0, 0.0,
-     0.0, -1.0, 0.0, 0.0,
-     0.0, 0.0, 0.0, 1.0]
+    {body_cam(yaw)}
   pixel_noise: {pixel:.3f}
-  time_offset_s: 0.0
+  time_offset_s: {offset:.3f}
 wheels:
-  ticks_per_meter_left: {TICKS_PER_M}
-  ticks_per_meter_right: {TICKS_PER_M}
-  wheel_base: {WHEEL_BASE_M}
+  ticks_per_meter_left: {ticks:.2f}
+  ticks_per_meter_right: {ticks:.2f}
+  wheel_base: {base:.5f}
   distance_noise: {c['distance_noise']:.4f}
-  scale_error: {max(abs(1.0 - c['distance_scale']), 1e-4):.4f}
+  scale_error: {max(c['distance_scale_sd'], 1e-4):.4f}
 gyro:
   noise_density: {max(density, 1e-5):.5f}
   bias_instability: {bias:.5f}
@@ -248,10 +277,10 @@ def import_robot(folder, robot, out, kind="commanded", seed=1, force=False):
     c = calibration(m, t0, t1)
     for ln in cal.describe(c, FOCAL_PX):
         log(ln)
-    clock = Clock(t0)
+    clock = Clock(t0, c["lag_s"])
     rng = np.random.default_rng(seed)
     te, ticks = encoders(m, t0, t1)
-    tg, rate, mems = gyro(m, t0, t1, kind, rng)
+    tg, rate, mems = gyro(m, t0, min(t1, m.groundtruth[-1, 0] - c["lag_s"]), kind, rng, c)
     rows, drop = sightings(m, t0, t1)
     imgs, repeated = images(rows)
     chosen = frames(imgs)
@@ -271,11 +300,12 @@ def import_robot(folder, robot, out, kind="commanded", seed=1, force=False):
         ns = int(clock.ns(t))
         feats += [f"{ns},{s},{u!r},{CY}\n" for s, u in sorted(seen_in.items())]
     write_csv(os.path.join(out, "features.csv"), "#t_ns,track_id,u_px,v_px", feats)
-    gt = m.groundtruth[(m.groundtruth[:, 0] >= clock.origin) & (m.groundtruth[:, 0] <= t1 + 1.0)]
+    gt = m.groundtruth[(m.groundtruth[:, 0] - clock.lag >= clock.origin)
+                       & (m.groundtruth[:, 0] <= t1 + 1.0)]
     half = 0.5 * gt[:, 3]
     write_csv(os.path.join(out, "groundtruth.csv"), "#t_ns,x_m,y_m,z_m,qw,qx,qy,qz",
               [f"{t},{x!r},{y!r},0.0,{w!r},0.0,0.0,{z!r}\n" for t, x, y, w, z in
-               zip(clock.ns(gt[:, 0]), gt[:, 1].tolist(), gt[:, 2].tolist(),
+               zip(clock.vicon(gt[:, 0]), gt[:, 1].tolist(), gt[:, 2].tolist(),
                    np.cos(half).tolist(), np.sin(half).tolist())])
     write_csv(os.path.join(out, "sim_landmarks.csv"), "#id,x_m,y_m,z_m",
               [f"{s},{x!r},{y!r},0.0\n" for s, (x, y) in sorted(m.landmarks.items())

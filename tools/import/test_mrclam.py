@@ -46,7 +46,10 @@ def command(t):
     return 0.1, 0.0
 
 
-def write(folder, robot=1, odometry_extra="", bad_time=False):
+def write(folder, robot=1, odometry_extra="", bad_time=False, lag=0.0, turn=1.0, dist=1.0,
+          yaw=0.0):
+    """The track executes each command lag s late, turn x its turn and dist x its distance; the
+    camera is turned by yaw."""
     os.makedirs(folder, exist_ok=True)
     with open(os.path.join(folder, "Barcodes.dat"), "w") as f:
         f.write(HEAD + "".join(f"  {s} \t {c}\n" for s, c in BARCODES.items()))
@@ -66,8 +69,8 @@ def write(folder, robot=1, odometry_extra="", bad_time=False):
     t_odo = np.round(t_odo, 3)
     dt = 0.001
     tt = np.arange(T0, T0 + 45.0, dt)
-    vw = np.array([command(t_odo[max(0, np.searchsorted(t_odo, t, side="right") - 1)])
-                   if t >= t_odo[0] else (0.0, 0.0) for t in tt])
+    vw = np.array([command(t_odo[max(0, np.searchsorted(t_odo, t - lag, side="right") - 1)])
+                   if t - lag >= t_odo[0] else (0.0, 0.0) for t in tt]) * [dist, turn]
     th = 0.3 + np.concatenate([[0.0], np.cumsum(vw[:-1, 1] * dt)])
     x = np.concatenate([[0.0], np.cumsum(vw[:-1, 0] * np.cos(th[:-1] + 0.5 * vw[:-1, 1] * dt)
                                          * dt)])
@@ -82,7 +85,7 @@ def write(folder, robot=1, odometry_extra="", bad_time=False):
     for k, t in enumerate(np.arange(T0 + 1.0, T0 + 43.0, 0.235)):
         i = int(round((t - T0) / dt))
         for s, (lx, ly) in LANDMARKS.items():
-            b = math.remainder(math.atan2(ly - y[i], lx - x[i]) - th[i], 2 * math.pi)
+            b = math.remainder(math.atan2(ly - y[i], lx - x[i]) - th[i] - yaw, 2 * math.pi)
             if abs(b) < 0.6:
                 stamp = t + (0.001 if k == 7 and s == 8 else 0.0)
                 meas.append((stamp, BARCODES[s], math.hypot(lx - x[i], ly - y[i]), b))
@@ -181,13 +184,44 @@ check(spread is not None and float(spread.group(1)) <= 0.1, "bearings exact to t
 yaml_text = open(os.path.join(out, "sensors.yaml")).read()
 check("# - lag: the delay of the commands" in yaml_text, "the method in sensors.yaml's comments")
 
+# A robot that executes its commands 0.2 s late, turns 0.85 x and travels 0.9 x what it is
+# commanded, its camera turned by 0.02 rad: the calibration measures it and sensors.yaml states it.
+cal_src = os.path.join(work, "mrclam_cal")
+write(cal_src, lag=0.2, turn=0.85, dist=0.9, yaw=0.02)
+p = importer(cal_src, "1", "--calibrate")
+check("commands lag the motion by 0.20 s" in p.stdout, f"lag measured: {p.stdout}")
+check("0.850 x the commanded turn and 0.900 x the commanded distance" in p.stdout,
+      f"scales measured: {p.stdout}")
+check("median error -20.0 mrad" in p.stdout, f"the camera's yaw measured: {p.stdout}")
+p = importer(cal_src, "1", os.path.join(work, "cal"))
+cal_yaml = open(os.path.join(work, "cal", "sensors.yaml")).read()
+for key, value in [("time_offset_s", -0.2), ("ticks_per_meter_left", 4000 / 0.9),
+                   ("wheel_base", 0.235 * 0.9 / 0.85), ("pixel_noise", 0.1)]:
+    m = re.search(rf"{key}: ([-0-9.]+)", cal_yaml)
+    check(m is not None and abs(float(m.group(1)) - value) < 2e-3 * max(1.0, abs(value)),
+          f"sensors.yaml {key}: {m and m.group(1)}, expected {value:.4f}")
+body_cam = re.search(r"T_body_cam:\s*\[([^\]]*)\]", cal_yaml)
+R = np.array([float(v) for v in body_cam.group(1).split(",")]).reshape(4, 4)[:3, :3]
+check(abs(math.atan2(R[1, 2], R[0, 2]) - 0.02) < 1e-3, "T_body_cam turned by the camera's yaw")
+check(np.abs(R.T @ R - np.eye(3)).max() < 1e-12, "T_body_cam exactly orthonormal")
+ce = csv(os.path.join(work, "cal", "encoders.csv"))
+cg = csv(os.path.join(work, "cal", "gyro.csv"))
+check(abs(np.sum(cg[:, 1]) * 0.01 - 0.85 * 3.0) < 0.02, "the commanded gyro times the turn scale")
+check(abs((ce[-1, 1] + ce[-1, 2]) / 2 / (4000 / 0.9) - 0.9 * 3.8) < 0.01,
+      "encoder ticks over ticks_per_meter: the travelled distance")
+
 # The mems gyro: the Vicon rate with the drawn errors; the seed decides them.
 p = importer(src, "1", os.path.join(work, "mems1"), "--gyro", "mems", "--seed", "5")
 check(p.returncode == 0, f"--gyro mems: {p.stderr}")
 g1 = csv(os.path.join(work, "mems1", "gyro.csv"))
-still = g1[:, 0] * 1e-9 + origin > T0 + 41.0
+t_g1 = g1[:, 0] * 1e-9 + origin
+still = (t_g1 > T0 + 41.0) | (t_g1 < T0 + 2.0)  # Vicon shows the robot still before T0 + 0.5
 bias = float(np.mean(g1[still, 1]))
-check(0.0015 < abs(bias) < 0.0045, f"mems bias {bias}")
+drawn = re.search(r"drawn: bias ([-+0-9.]+) mrad/s",
+                  open(os.path.join(work, "mems1", "sensors.yaml")).read())
+check(drawn is not None and 2.0 <= abs(float(drawn.group(1))) <= 4.0, "drawn bias stated")
+check(drawn is not None and abs(bias - float(drawn.group(1)) * 1e-3) < 4 * 0.05 / math.sqrt(
+    np.sum(still)), f"mems bias {bias}: the drawn one plus the noise's mean")
 check(0.03 < np.std(g1[still, 1]) < 0.07, f"mems noise {np.std(g1[still, 1])} rad/s at 100 Hz")
 check(abs(np.sum(g1[:, 1] - bias) * 0.01 - turn) < 0.1, "mems turn")
 check("noise_density: 0.00500" in open(os.path.join(work, "mems1", "sensors.yaml")).read(),

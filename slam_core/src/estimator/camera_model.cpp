@@ -32,9 +32,8 @@ CameraModel::CameraModel(const hal::CameraCalibration& c)
                       std::isfinite(cy_) && std::isfinite(k1_) && std::isfinite(k2_) &&
                       std::isfinite(p1_) && std::isfinite(p2_) && R_body_c_.allFinite() &&
                       t_body_c_.allFinite();
-  const bool rigid =
-      finite && (R_body_opt.transpose() * R_body_opt - Eigen::Matrix3d::Identity()).norm() < 1e-6 &&
-      R_body_opt.determinant() > 0.0;
+  // The same test as the calibration readers': a mount they accept is one the model uses.
+  const bool rigid = finite && hal::camera_mount_error(c.T_body_cam) == nullptr;
   valid_ = finite && rigid && fx_ > 0.0 && fy_ > 0.0 && width_ > 0 && height_ > 0;
 }
 

@@ -142,6 +142,22 @@ TEST(CameraModel, RejectsBadPixelsAndPointsBehind) {
   EXPECT_FALSE(cs::CameraModel(bad).valid());
 }
 
+// A camera turned by 0.000865 rad about the body's z axis, written to six decimals: within the
+// calibration readers' tolerance (hal::camera_mount_error), so the model takes it.
+TEST(CameraModel, AcceptsTheMountsTheCalibrationAccepts) {
+  cleanslam::hal::CameraCalibration c;
+  c.T_body_cam = {0.000865, 0.0,  1.0, 0.0, -1.0, 0.0, 0.000865, 0.0,
+                  0.0,      -1.0, 0.0, 0.0, 0.0,  0.0, 0.0,      1.0};
+  ASSERT_EQ(cleanslam::hal::camera_mount_error(c.T_body_cam), nullptr);
+  const cs::CameraModel cam(c);
+  EXPECT_TRUE(cam.valid());
+  Eigen::Vector2d n;
+  EXPECT_TRUE(cam.undistort(c.cx, c.cy, n));
+  c.T_body_cam[0] = 0.01;  // no longer orthonormal within 1e-4
+  ASSERT_NE(cleanslam::hal::camera_mount_error(c.T_body_cam), nullptr);
+  EXPECT_FALSE(cs::CameraModel(c).valid());
+}
+
 TEST(CameraModel, ProjectionJacobianMatchesNumeric) {
   const cs::CameraModel cam(distorted_camera());
   const Eigen::Vector3d p(2.5, 0.6, -0.4);
