@@ -233,16 +233,26 @@ void FramePipeline::do_track() {
   const int end = std::min(track_count_, cursor_ + config_.tracks_per_step);
   for (; cursor_ < end; ++cursor_) {
     TrackRecord& t = at(tracks_, cursor_);
-    const LandmarkPatch* patch = patches_.get(t.slot);
-    PatchTemplate tmpl;
-    if (patch == nullptr ||
-        !make_template(*patch, patch_scale(*patch, t), config_.tracker.min_template_std, tmpl)) {
+    const LandmarkPatch* patch = patches_.latest(t.slot);
+    if (patch == nullptr || !make_template(*patch, patch_scale(*patch, t),
+                                           config_.tracker.min_template_std, template_)) {
       t.result.failure = TrackFailure::kNoTemplate;
       continue;
     }
     const bool reacquire = book_.frames_since_match(t.slot) > config_.reacquire_after_frames;
-    t.result = tracker_.track(image_, tmpl, t.region, detector_.corners(), detector_.corner_count(),
-                              reacquire);
+    t.result = tracker_.track(image_, template_, t.region, detector_.corners(),
+                              detector_.corner_count(), reacquire);
+    const LandmarkPatch* first = patches_.get(t.slot);
+    if (t.result.found && first != nullptr && first != patch &&
+        make_template(*first, patch_scale(*first, t), config_.tracker.min_template_std,
+                      template_)) {
+      t.result.first_ncc = template_ncc(image_, template_, t.result.u_px, t.result.v_px);
+      if (t.result.first_ncc < config_.tracker.min_first_ncc) {
+        t.result.found = false;
+        t.result.failure = TrackFailure::kUnlikeFirst;
+        ++report_.unlike_first;
+      }
+    }
     if (t.result.found) {
       ++report_.tracked;
       at(obs_, obs_count_) = {t.slot, t.result.u_px, t.result.v_px};
@@ -342,6 +352,13 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
     at(matched_now_, t.slot) = matched;
     if ((matched || t.center_inside) && book_.record(t.slot, matched)) {
       remove_landmark(est, t.slot);
+      continue;
+    }
+    // The latest patch follows the landmark where it no longer matches closely.
+    if (matched && t.result.ncc < config_.refresh_below_ncc &&
+        patches_.refresh(t.slot, image_, t.result.u_px, t.result.v_px, t.predicted_depth_m,
+                         camera_, camera_known_)) {
+      ++report_.refreshed;
     }
   }
   for (int slot = 0; slot < hal::kMaxLandmarks; ++slot) {
@@ -350,7 +367,7 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
     }
   }
   // Landmarks matched in this frame (inliers) count as in view; new ones are wanted when there
-  // are fewer than min_in_view, up to target_in_view, away from every landmark in view.
+  // are fewer than target_in_view, away from every landmark in view.
   int matched = 0;
   for (int i = 0; i < track_count_; ++i) {
     const TrackRecord& t = at(tracks_, i);
@@ -364,7 +381,7 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
   new_corner_count_ = 0;
   new_wanted_ = 0;
   const LandmarkBookConfig& bc = book_.config();
-  if (matched < bc.min_in_view) {
+  if (matched < bc.target_in_view) {
     new_wanted_ = std::min(bc.target_in_view - matched, hal::kMaxCorners);
     // Twice as many candidates: those whose patch is an edge are passed over.
     new_corner_count_ = select_new_corners(

@@ -327,7 +327,6 @@ TEST(FrontendPipeline, TwoLandmarksOnOnePixelKeepOnlyTheBetterMatch) {
   // corners' minimum distance: neighbouring landmarks count as duplicates.
   fe::FramePipelineConfig cfg;
   cfg.book.exclusion_px = 0.0;
-  cfg.book.min_in_view = 16;
   cfg.book.target_in_view = 16;
   cfg.harris.min_distance_px = 3.0F;
   cfg.duplicate_px = 12.0;

@@ -39,6 +39,9 @@ struct FramePipelineConfig {
   // patches deform with every move) and its junction with walls and furniture makes corners that
   // slide along it (occlusion boundaries). 1: the whole image.
   double new_landmark_max_row_fraction = 0.7;
+  // A landmark matched (an inlier) with an NCC below this against its latest patch gets its
+  // latest patch refreshed at the match (PatchStore).
+  float refresh_below_ncc = 0.9F;
   // A landmark not matched for more frames than this is reacquired (Tracker::track): the pose
   // may have drifted more than its covariance says, and a look-alike near the prediction must
   // not close the loop.
@@ -100,6 +103,8 @@ struct FrameReport {
   int deleted = 0;
   int initialized = 0;
   int edge_corners = 0;  // corners not taken as landmarks: their patch is an edge
+  int unlike_first = 0;  // matches refused: no longer like the first sighting
+  int refreshed = 0;     // latest patches refreshed
   int steps = 0;
   JcbbResult jcbb;
 };
@@ -196,6 +201,7 @@ class FramePipeline {
   std::array<int, hal::kMaxCorners> new_corners_{};
   int new_corner_count_ = 0;
   int new_wanted_ = 0;
+  PatchTemplate template_;
   // A candidate's patch and template, checked before it becomes a landmark.
   LandmarkPatch candidate_patch_;
   PatchTemplate candidate_template_;

@@ -15,10 +15,9 @@ struct LandmarkBookConfig {
   // frame without a match, in view or not: its depth is still unknown, and found again later its
   // wide search region easily takes a look-alike for it.
   int min_matches_to_keep = 3;
-  // New landmarks are taken when fewer than min_in_view were matched, up to target_in_view
-  // (Section 3.2: 5-10 landmarks in view).
-  int min_in_view = 5;
-  int target_in_view = 10;
+  // New landmarks are taken whenever fewer than target_in_view were matched, up to that many
+  // (Section 3.2 keeps 5-10 in view; more, spread over the image, constrain the pose better).
+  int target_in_view = 14;
   // New landmarks keep this distance from every landmark in view, in pixels.
   double exclusion_px = 20.0;
 };
