@@ -233,7 +233,7 @@ void FramePipeline::do_track() {
   const int end = std::min(track_count_, cursor_ + config_.tracks_per_step);
   for (; cursor_ < end; ++cursor_) {
     TrackRecord& t = at(tracks_, cursor_);
-    const LandmarkPatch* patch = patches_.latest(t.slot);
+    const LandmarkPatch* patch = patches_.get(t.slot);
     if (patch == nullptr || !make_template(*patch, patch_scale(*patch, t),
                                            config_.tracker.min_template_std, template_)) {
       t.result.failure = TrackFailure::kNoTemplate;
@@ -242,17 +242,6 @@ void FramePipeline::do_track() {
     const bool reacquire = book_.frames_since_match(t.slot) > config_.reacquire_after_frames;
     t.result = tracker_.track(image_, template_, t.region, detector_.corners(),
                               detector_.corner_count(), reacquire);
-    const LandmarkPatch* first = patches_.get(t.slot);
-    if (t.result.found && first != nullptr && first != patch &&
-        make_template(*first, patch_scale(*first, t), config_.tracker.min_template_std,
-                      template_)) {
-      t.result.first_ncc = template_ncc(image_, template_, t.result.u_px, t.result.v_px);
-      if (t.result.first_ncc < config_.tracker.min_first_ncc) {
-        t.result.found = false;
-        t.result.failure = TrackFailure::kUnlikeFirst;
-        ++report_.unlike_first;
-      }
-    }
     if (t.result.found) {
       ++report_.tracked;
       at(obs_, obs_count_) = {t.slot, t.result.u_px, t.result.v_px};
@@ -306,6 +295,19 @@ void FramePipeline::do_associate(LandmarkEstimator& est) {
     report_.innovation_rejected = true;
     return;
   }
+  // Each match's normalized innovation squared against its own prediction (its 2x2 block of S).
+  const int n2 = 2 * m;
+  for (int i = 0; i < m; ++i) {
+    const std::size_t r = static_cast<std::size_t>(2 * i);
+    const double a = S_[r * n2 + r];
+    const double b = S_[r * n2 + r + 1];
+    const double d = S_[(r + 1) * n2 + r + 1];
+    const double det = a * d - b * b;
+    const double x = nu_[r];
+    const double y = nu_[r + 1];
+    at(tracks_, at(obs_track_, i)).nis =
+        det > 0.0 ? (d * x * x - 2.0 * b * x * y + a * y * y) / det : 0.0;
+  }
   report_.jcbb = jcbb_.solve(nu_.data(), S_.data(), m, inlier_.data());
   report_.inliers = report_.jcbb.inlier_count;
   report_.outliers = m - report_.jcbb.inlier_count;
@@ -354,8 +356,19 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
       remove_landmark(est, t.slot);
       continue;
     }
-    // The latest patch follows the landmark where it no longer matches closely.
-    if (matched && t.result.ncc < config_.refresh_below_ncc &&
+    if (!matched) {
+      continue;
+    }
+    // A corner whose matches keep straying from their predictions (formed where a near edge
+    // crosses the background: it slides as the camera moves) is no point of the scene.
+    if (book_.record_residual(t.slot, t.nis)) {
+      remove_landmark(est, t.slot);
+      ++report_.inconsistent;
+      continue;
+    }
+    // The patch follows the landmark where it no longer matches closely, from a match that
+    // agrees with its prediction.
+    if (t.result.ncc < config_.refresh_below_ncc && t.nis <= config_.refresh_max_nis &&
         patches_.refresh(t.slot, image_, t.result.u_px, t.result.v_px, t.predicted_depth_m,
                          camera_, camera_known_)) {
       ++report_.refreshed;

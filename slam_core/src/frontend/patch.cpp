@@ -162,8 +162,7 @@ bool make_template(const LandmarkPatch& patch, double scale, float min_std_gray,
 }
 
 PatchStore::PatchStore()
-    : patches_(std::make_unique<std::array<LandmarkPatch, hal::kMaxLandmarks>>()),
-      latest_(std::make_unique<std::array<LandmarkPatch, hal::kMaxLandmarks>>()) {}
+    : patches_(std::make_unique<std::array<LandmarkPatch, hal::kMaxLandmarks>>()) {}
 PatchStore::~PatchStore() = default;
 
 bool PatchStore::capture(int slot, const hal::GrayImageView& image, double u_px, double v_px,
@@ -171,13 +170,7 @@ bool PatchStore::capture(int slot, const hal::GrayImageView& image, double u_px,
   if (slot < 0 || slot >= hal::kMaxLandmarks) {
     return false;
   }
-  const auto s = static_cast<std::size_t>(slot);
-  (*latest_)[s].valid = false;
-  if (!capture_patch(image, u_px, v_px, depth_m, (*patches_)[s])) {
-    return false;
-  }
-  (*latest_)[s] = (*patches_)[s];
-  return true;
+  return capture_patch(image, u_px, v_px, depth_m, (*patches_)[static_cast<std::size_t>(slot)]);
 }
 
 bool PatchStore::refresh(int slot, const hal::GrayImageView& image, double u_px, double v_px,
@@ -185,14 +178,11 @@ bool PatchStore::refresh(int slot, const hal::GrayImageView& image, double u_px,
   if (get(slot) == nullptr || !capture_patch(image, u_px, v_px, depth_m, scratch_)) {
     return false;
   }
-  LandmarkPatch& p = (*latest_)[static_cast<std::size_t>(slot)];
-  p.pixels = scratch_.pixels;
-  p.first_depth_m = depth_m;
+  LandmarkPatch& p = (*patches_)[static_cast<std::size_t>(slot)];
+  p = scratch_;
   if (has_camera && camera_position.allFinite()) {
     p.anchor = {camera_position.x(), camera_position.y(), camera_position.z()};
     p.has_anchor = true;
-  } else {
-    p.has_anchor = false;
   }
   return true;
 }
@@ -200,17 +190,14 @@ bool PatchStore::refresh(int slot, const hal::GrayImageView& image, double u_px,
 void PatchStore::clear(int slot) {
   if (slot >= 0 && slot < hal::kMaxLandmarks) {
     (*patches_)[static_cast<std::size_t>(slot)].valid = false;
-    (*latest_)[static_cast<std::size_t>(slot)].valid = false;
   }
 }
 
 void PatchStore::set_anchor(int slot, const Eigen::Vector3d& camera_position) {
   if (slot >= 0 && slot < hal::kMaxLandmarks && camera_position.allFinite()) {
-    for (auto* store : {patches_.get(), latest_.get()}) {
-      LandmarkPatch& p = (*store)[static_cast<std::size_t>(slot)];
-      p.anchor = {camera_position.x(), camera_position.y(), camera_position.z()};
-      p.has_anchor = p.valid;
-    }
+    LandmarkPatch& p = (*patches_)[static_cast<std::size_t>(slot)];
+    p.anchor = {camera_position.x(), camera_position.y(), camera_position.z()};
+    p.has_anchor = p.valid;
   }
 }
 
@@ -219,18 +206,6 @@ const LandmarkPatch* PatchStore::get(int slot) const {
     return nullptr;
   }
   const LandmarkPatch& p = (*patches_)[static_cast<std::size_t>(slot)];
-  return p.valid ? &p : nullptr;
-}
-
-}  // namespace cleanslam::slam_core::frontend
-
-namespace cleanslam::slam_core::frontend {
-
-const LandmarkPatch* PatchStore::latest(int slot) const {
-  if (slot < 0 || slot >= hal::kMaxLandmarks) {
-    return nullptr;
-  }
-  const LandmarkPatch& p = (*latest_)[static_cast<std::size_t>(slot)];
   return p.valid ? &p : nullptr;
 }
 

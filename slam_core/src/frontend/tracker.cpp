@@ -82,11 +82,6 @@ float window_ncc(const hal::GrayImageView& image, const PatchTemplate& tmpl, dou
 
 }  // namespace
 
-float template_ncc(const hal::GrayImageView& image, const PatchTemplate& tmpl, double u_px,
-                   double v_px) {
-  return tmpl.valid ? window_ncc(image, tmpl, u_px, v_px) : 0.0F;
-}
-
 Refinement Tracker::refine(const hal::GrayImageView& image, const PatchTemplate& tmpl, double u_px,
                            double v_px) const {
   Refinement out;

@@ -36,10 +36,6 @@ struct TrackerConfig {
   float distinct_px = 3.0F;
   float ambiguity_ncc = 0.03F;
   float reacquire_min_ncc = 0.8F;
-  // A match made with a landmark's latest patch must still resemble its first sighting this much
-  // (NCC of the first-sighting template at the match): the latest patch follows the corner's
-  // change with the viewpoint, the first keeps it from drifting off the corner.
-  float min_first_ncc = 0.6F;
   float reacquire_box_px = 30.0F;
 };
 
@@ -51,7 +47,6 @@ enum class TrackFailure : std::uint8_t {
   kLowNcc,
   kAmbiguous,  // another place in the search box matches about as well (repetitive texture)
   kDuplicate,  // another landmark matched the same pixel with a higher NCC (frame pipeline)
-  kUnlikeFirst,  // matches the latest patch but no longer the first sighting (frame pipeline)
 };
 
 struct TrackResult {
@@ -60,17 +55,9 @@ struct TrackResult {
   double u_px = 0.0;
   double v_px = 0.0;
   float ncc = 0.0F;
-  // NCC of the first-sighting template at the match, when the match was made with a later patch
-  // (frame pipeline); 0 otherwise.
-  float first_ncc = 0.0F;
   int starts_tried = 0;
   int iterations = 0;
 };
-
-// Zero-mean NCC between the template and the image window centred on (u, v) (bilinear); 0 where
-// the window does not fit or is flat.
-[[nodiscard]] float template_ncc(const hal::GrayImageView& image, const PatchTemplate& tmpl,
-                                 double u_px, double v_px);
 
 // Outcome of one translation-only Lucas-Kanade run.
 struct Refinement {
