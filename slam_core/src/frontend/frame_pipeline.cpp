@@ -233,15 +233,27 @@ void FramePipeline::do_track() {
   const int end = std::min(track_count_, cursor_ + config_.tracks_per_step);
   for (; cursor_ < end; ++cursor_) {
     TrackRecord& t = at(tracks_, cursor_);
-    const LandmarkPatch* patch = patches_.get(t.slot);
-    if (patch == nullptr || !make_template(*patch, patch_scale(*patch, t),
-                                           config_.tracker.min_template_std, template_)) {
-      t.result.failure = TrackFailure::kNoTemplate;
-      continue;
-    }
     const bool reacquire = book_.frames_since_match(t.slot) > config_.reacquire_after_frames;
-    t.result = tracker_.track(image_, template_, t.region, detector_.corners(),
-                              detector_.corner_count(), reacquire);
+    // The first sighting's patch while it matches; the latest where it no longer does.
+    t.result.failure = TrackFailure::kNoTemplate;
+    const LandmarkPatch* first = patches_.get(t.slot);
+    if (first != nullptr && make_template(*first, patch_scale(*first, t),
+                                          config_.tracker.min_template_std, template_)) {
+      t.result = tracker_.track(image_, template_, t.region, detector_.corners(),
+                                detector_.corner_count(), reacquire);
+    }
+    const LandmarkPatch* latest = patches_.latest(t.slot);
+    if (!t.result.found && t.result.failure != TrackFailure::kNoRegion && latest != nullptr &&
+        make_template(*latest, patch_scale(*latest, t), config_.tracker.min_template_std,
+                      template_)) {
+      const TrackResult r = tracker_.track(image_, template_, t.region, detector_.corners(),
+                                           detector_.corner_count(), reacquire);
+      if (r.found) {
+        t.result = r;
+        t.by_latest = true;
+        ++report_.by_latest;
+      }
+    }
     if (t.result.found) {
       ++report_.tracked;
       at(obs_, obs_count_) = {t.slot, t.result.u_px, t.result.v_px};
@@ -366,7 +378,7 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
       ++report_.inconsistent;
       continue;
     }
-    // The patch follows the landmark where it no longer matches closely, from a match that
+    // The latest patch follows the landmark where it no longer matches closely, from a match that
     // agrees with its prediction.
     if (t.result.ncc < config_.refresh_below_ncc && t.nis <= config_.refresh_max_nis &&
         patches_.refresh(t.slot, image_, t.result.u_px, t.result.v_px, t.predicted_depth_m,

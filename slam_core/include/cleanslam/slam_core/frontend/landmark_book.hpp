@@ -17,13 +17,13 @@ struct LandmarkBookConfig {
   int min_matches_to_keep = 3;
   // New landmarks are taken whenever fewer than target_in_view were matched, up to that many
   // (Section 3.2 keeps 5-10 in view; more, spread over the image, constrain the pose better).
-  int target_in_view = 14;
+  int target_in_view = 10;
   // A landmark whose matches' normalized innovation squared (2 dof: mean 2 for a consistent
   // estimator), averaged with weight residual_weight for the newest, exceeds max_mean_nis after
   // at least min_matches_to_keep matches is deleted (Section 3.3's gate passes each match, but a
   // corner sliding along an occluding edge strays from its prediction match after match).
   double residual_weight = 0.2;
-  double max_mean_nis = 6.0;
+  double max_mean_nis = 2.5;
   // New landmarks keep this distance from every landmark in view, in pixels.
   double exclusion_px = 20.0;
 };

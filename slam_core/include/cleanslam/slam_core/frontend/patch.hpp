@@ -21,13 +21,12 @@ inline constexpr int kStoredPatchSize = 2 * kStoredPatchRadius + 1;
 inline constexpr double kMinPatchScale = 0.6;
 inline constexpr double kMaxPatchScale = 3.0;
 
-// A landmark's appearance at its first sighting, or where it was last refreshed, centred on the
-// sub-pixel corner, with the landmark's depth at that time (Section 3.4, feature-scale
-// prediction).
+// A landmark's appearance at its first sighting, centred on the sub-pixel corner, with the
+// landmark's depth at that time (Section 3.4, feature-scale prediction).
 struct LandmarkPatch {
   std::array<float, kStoredPatchSize * kStoredPatchSize> pixels{};
   double first_depth_m = 0.0;
-  // Where the camera was at the sighting (when the estimator tells): the scale is then the
+  // Where the camera was at the first sighting (when the estimator tells): the scale is then the
   // landmark's current distance estimate from there over its distance from the camera now, which
   // stays right as the landmark's depth converges (the depth assumed at initialization does not).
   std::array<double, 3> anchor{};
@@ -75,10 +74,10 @@ struct PatchTemplate {
 bool make_template(const LandmarkPatch& patch, double scale, float min_std_gray,
                    PatchTemplate& out);
 
-// One patch per landmark slot, allocated at construction. A refresh replaces it by the landmark's
-// appearance where it was matched, so that it follows the corner's change with the viewpoint
-// (the frame pipeline refreshes only matches that agree with the estimator's prediction, which
-// keeps the patch from drifting off the corner).
+// Two patches per landmark slot, allocated at construction: the first sighting's, which does not
+// drift, and the latest, refreshed where the landmark was matched, which follows the corner's
+// change of appearance with the viewpoint (the frame pipeline matches the first while it still
+// matches, the latest only then).
 class PatchStore {
  public:
   PatchStore();
@@ -86,21 +85,25 @@ class PatchStore {
   PatchStore(const PatchStore&) = delete;
   PatchStore& operator=(const PatchStore&) = delete;
 
-  // False for a slot out of range or a window that does not fit (the slot is then cleared).
+  // The first sighting, also the latest patch. False for a slot out of range or a window that
+  // does not fit (the slot is then cleared).
   bool capture(int slot, const hal::GrayImageView& image, double u_px, double v_px, double depth_m);
-  // Replaces a slot's patch by the window around (u, v), seen at depth_m from camera_position
-  // (the new anchor; none when has_camera is false). False, the patch unchanged, for a slot
-  // without a patch or a window that does not fit.
+  // Replaces the latest patch of a slot that has one; the first stays. False (nothing changed)
+  // for a slot without a patch or a window that does not fit.
   bool refresh(int slot, const hal::GrayImageView& image, double u_px, double v_px, double depth_m,
                const Eigen::Vector3d& camera_position, bool has_camera);
   void clear(int slot);
-  // Records the camera position of the slot's first sighting (LandmarkPatch::anchor).
+  // Records the camera position of the slot's first sighting (LandmarkPatch::anchor), on both
+  // patches.
   void set_anchor(int slot, const Eigen::Vector3d& camera_position);
   // Null for a slot out of range or without a patch.
   [[nodiscard]] const LandmarkPatch* get(int slot) const;
+  // Null also for a slot whose patch was never refreshed.
+  [[nodiscard]] const LandmarkPatch* latest(int slot) const;
 
  private:
   std::unique_ptr<std::array<LandmarkPatch, hal::kMaxLandmarks>> patches_;
+  std::unique_ptr<std::array<LandmarkPatch, hal::kMaxLandmarks>> latest_;
   LandmarkPatch scratch_;
 };
 
