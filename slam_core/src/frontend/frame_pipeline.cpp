@@ -381,8 +381,8 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
     // The latest patch follows the landmark where it no longer matches closely, from a match that
     // agrees with its prediction.
     if (t.result.ncc < config_.refresh_below_ncc && t.nis <= config_.refresh_max_nis &&
-        patches_.refresh(t.slot, image_, t.result.u_px, t.result.v_px, t.predicted_depth_m,
-                         camera_, camera_known_)) {
+        patches_.refresh(t.slot, image_, t.result.u_px, t.result.v_px, t.predicted_depth_m, camera_,
+                         camera_known_)) {
       ++report_.refreshed;
     }
   }

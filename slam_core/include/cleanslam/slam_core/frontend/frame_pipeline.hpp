@@ -81,7 +81,7 @@ struct TrackRecord {
   TrackResult result;
   bool inlier = false;
   bool by_latest = false;  // matched with the latest patch, not the first
-  double nis = 0.0;  // normalized innovation squared of the match against its prediction
+  double nis = 0.0;        // normalized innovation squared of the match against its prediction
   // The predicted pixel itself is inside the searchable image; a landmark predicted beyond the
   // border is still searched where its region overlaps the image, but a miss is not held
   // against it (it may simply have left the view).
