@@ -208,7 +208,7 @@ constexpr std::array kSlamParameters{
       "new landmarks only above this fraction of the image height, 1: the whole image"},
     P{"frontend.refresh_below_ncc",
       [](SlamConfig& c) { return parameter_field(c.frontend.refresh_below_ncc); }, 0.95, -1.0, 1.0,
-      false, "", "a landmark matched with a lower NCC gets its patch refreshed there ..."},
+      false, "", "a landmark matched with a lower NCC gets its latest patch refreshed there ..."},
     P{"frontend.refresh_max_nis",
       [](SlamConfig& c) { return parameter_field(c.frontend.refresh_max_nis); }, 5.99, 0.0, 1e6,
       false, "", "... when the match's normalized innovation squared is at most this"},
