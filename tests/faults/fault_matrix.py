@@ -406,7 +406,7 @@ def main():
         Case("log truncated", "recovered", log_truncated("log_trunc"), "replay",
              r"truncated at byte \d+.*\n(.*\n)*.*reproduced bit for bit \(up to the truncation\)"),
         Case("log bit flip", "recovered", log_bit_flip("log_flip"), "log",
-             r"1 bad_crc record\(s\) skipped", feat, bound),
+             r"1 (bad_crc|bad_sync|bad_length) record\(s\) skipped", feat, bound),
         Case("log duplicate record", "recovered", log_case("log_dup", log_duplicate), "log",
              r"input refused \(out_of_order\)", feat, bound),
         Case("log swapped encoder records", "recovered", log_case("log_swap", log_swap), "log",
