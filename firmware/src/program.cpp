@@ -464,7 +464,7 @@ int run_normal(const Args& args) {
     report_log_source(*log_source, config.source.path, &loop);
   }
   if (dataset != nullptr) {
-    loop.count(Reject::kTimeJump, dataset->dataset().rows_refused, true);
+    loop.count(Reject::kTimeJump, dataset->summary().rows_refused, true);
     for (const std::string& m : dataset->image_error_messages()) {
       std::fprintf(stderr, "cleanslam: warning: %s\n", m.c_str());
     }
