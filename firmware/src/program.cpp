@@ -478,6 +478,10 @@ int run_normal(const Args& args) {
   if (end == RunEnd::kStopped) {
     std::fprintf(stderr, "cleanslam: stopped by signal, outputs flushed\n");
   }
+  if (dataset != nullptr && !dataset->stream_error().empty()) {
+    std::fprintf(stderr, "cleanslam: error: %s\n", dataset->stream_error().c_str());
+    return 2;
+  }
   return 0;
 }
 

@@ -267,6 +267,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cleanslam-replay: warning: %d images failed to load: %s\n",
                  source->image_errors(), source->last_error().c_str());
   }
+  if (!source->stream_error().empty()) {
+    return fail(source->stream_error());
+  }
   if (end == firmware::RunEnd::kStopped) {
     return 130;
   }

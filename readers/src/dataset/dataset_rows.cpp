@@ -70,8 +70,8 @@ struct RowFormat<CameraIndexRow> {
     const bool parent = name == ".." || name.starts_with("../") || name.ends_with("/..") ||
                         name.find("/../") != std::string_view::npos;
     if (name.front() == '/' || parent) {
-      return row.fail(1, "file name must be relative to cam0/data/, got \"" + std::string(name) +
-                             "\"");
+      return row.fail(
+          1, "file name must be relative to cam0/data/, got \"" + std::string(name) + "\"");
     }
     c.filename.assign(name);
     c.line = row.line();
@@ -169,10 +169,10 @@ bool RowReader<Row>::next(Row& out) {
       error_ = row->fail(0, "negative time stamp " + std::to_string(*t));
       return false;
     }
-    if (kept_ > 0 &&
-        (*t < previous_ || (RowFormat<Row>::kStrictlyIncreasing && *t == previous_))) {
-      error_ = row->fail(0, "time stamp " + std::to_string(*t) + " is not after the previous row's " +
-                                std::to_string(previous_) + " (rows must be sorted by time)");
+    if (kept_ > 0 && (*t < previous_ || (RowFormat<Row>::kStrictlyIncreasing && *t == previous_))) {
+      error_ =
+          row->fail(0, "time stamp " + std::to_string(*t) + " is not after the previous row's " +
+                           std::to_string(previous_) + " (rows must be sorted by time)");
       return false;
     }
     if (!within_span(*row, *t)) continue;
@@ -194,11 +194,11 @@ bool RowReader<Row>::within_span(const CsvRow& row, hal::TimeNs t) {
   if (limits_.refused != nullptr) ++*limits_.refused;
   if (limits_.warnings != nullptr && ++told_ <= kMaxTold) {
     limits_.warnings->push_back(row.fail(
-        0, "time stamp " + std::to_string(t) + " is more than " +
-               format_double(hal::to_seconds(limits_.max_span_ns)) +
-               " s (loop.max_span_s) after the file's first row: row refused" +
-               (told_ == kMaxTold ? " (later ones of this file are refused without a message)"
-                                  : "")));
+        0,
+        "time stamp " + std::to_string(t) + " is more than " +
+            format_double(hal::to_seconds(limits_.max_span_ns)) +
+            " s (loop.max_span_s) after the file's first row: row refused" +
+            (told_ == kMaxTold ? " (later ones of this file are refused without a message)" : "")));
   }
   return false;
 }

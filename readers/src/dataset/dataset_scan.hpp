@@ -27,7 +27,7 @@ struct RowVisitors {
 // visitor. `out` receives everything but the rows (the visitors may fill them). Stops at the first
 // error: sensors.yaml, gyro.csv, encoders.csv, cam0/data.csv, its images, features.csv, lift.csv,
 // groundtruth.csv, in this order.
-Status scan_dataset(const std::string& folder, const LoadOptions& options,
-                    const RowVisitors& visit, Dataset& out);
+Status scan_dataset(const std::string& folder, const LoadOptions& options, const RowVisitors& visit,
+                    Dataset& out);
 
 }  // namespace cleanslam::readers
