@@ -51,7 +51,8 @@ void write_dataset(const fs::path& dir, int seconds) {
   for (std::int64_t i = 0; i < seconds * 100; ++i) gyro << i * 10 * kMs << ",0.01\n";
   std::ofstream enc(dir / "encoders.csv");
   enc << "#t_ns,left_ticks,right_ticks\n";
-  for (std::int64_t i = 0; i < seconds * 20; ++i) enc << i * 50 * kMs << "," << i << "," << i << "\n";
+  for (std::int64_t i = 0; i < seconds * 20; ++i)
+    enc << i * 50 * kMs << "," << i << "," << i << "\n";
   std::ofstream cam(dir / "cam0" / "data.csv");
   cam << "#t_ns,filename\n";
   std::ofstream features(dir / "features.csv");
@@ -92,7 +93,8 @@ Use stream(const fs::path& dir) {
 }  // namespace
 
 TEST(DatasetSourceMemory, DoesNotGrowWithTheDatasetsLength) {
-  const fs::path root = fs::temp_directory_path() / ("cleanslam_stream_" + std::to_string(getpid()));
+  const fs::path root =
+      fs::temp_directory_path() / ("cleanslam_stream_" + std::to_string(getpid()));
   write_dataset(root / "short", 60);
   write_dataset(root / "long", 2400);
   const Use short_run = stream(root / "short");
