@@ -34,7 +34,7 @@ std::size_t heap_in_use() {
 
 // A dataset of `seconds`: gyro at 100 Hz, encoders at 20 Hz, a frame every 0.5 s alternately
 // with an image (all rows name the same small PGM) and with 8 features, a lift and a set-down.
-void write_dataset(const fs::path& dir, int seconds) {
+void write_dataset(const fs::path& dir, std::int64_t seconds) {
   fs::remove_all(dir);
   fs::create_directories(dir / "cam0" / "data");
   hal::Calibration cal;
@@ -43,7 +43,7 @@ void write_dataset(const fs::path& dir, int seconds) {
   std::ofstream(dir / "sensors.yaml") << readers::sensors_yaml_text(cal);
   {
     std::ofstream pgm(dir / "cam0" / "data" / "f.pgm", std::ios::binary);
-    pgm << "P5\n32 24\n255\n" << std::string(32 * 24, '\x40');
+    pgm << "P5\n32 24\n255\n" << std::string(std::size_t{32} * 24, '\x40');
   }
   constexpr std::int64_t kMs = 1'000'000;
   std::ofstream gyro(dir / "gyro.csv");
@@ -104,13 +104,13 @@ TEST(DatasetSourceMemory, DoesNotGrowWithTheDatasetsLength) {
   RecordProperty("long_held_bytes", std::to_string(long_run.held_after_open));
   RecordProperty("short_peak_bytes", std::to_string(short_run.peak_while_read));
   RecordProperty("long_peak_bytes", std::to_string(long_run.peak_while_read));
-  ASSERT_EQ(short_run.events, 60U * (100 + 20 + 2) + 2);
-  ASSERT_EQ(long_run.events, 2400U * (100 + 20 + 2) + 2);
+  ASSERT_EQ(short_run.events, std::size_t{60} * (100 + 20 + 2) + 2);
+  ASSERT_EQ(long_run.events, std::size_t{2400} * (100 + 20 + 2) + 2);
   // A source that kept its rows would hold 40 times the short one's (megabytes here).
-  constexpr std::size_t kSlack = 16 * 1024;
+  constexpr std::size_t kSlack = std::size_t{16} * 1024;
   EXPECT_LE(long_run.held_after_open, short_run.held_after_open + kSlack)
       << "short " << short_run.held_after_open << " bytes, long " << long_run.held_after_open;
   EXPECT_LE(long_run.peak_while_read, short_run.peak_while_read + kSlack)
       << "short " << short_run.peak_while_read << " bytes, long " << long_run.peak_while_read;
-  EXPECT_LT(short_run.held_after_open, 256U * 1024U) << short_run.held_after_open;
+  EXPECT_LT(short_run.held_after_open, std::size_t{256} * 1024) << short_run.held_after_open;
 }

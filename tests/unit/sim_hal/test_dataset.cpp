@@ -659,7 +659,8 @@ TEST(DatasetSource, ARowBrokenAfterOpenEndsTheStreamWithItsLine) {
   TempDir dir;
   make_dataset(dir.str());
   std::string gyro = "#t_ns,wz_rad_s\n";
-  for (int i = 0; i < 5000; ++i) gyro += std::to_string(i * 10 * hal::kNsPerMillisecond) + ",0.5\n";
+  for (int i = 0; i < 5000; ++i)
+    gyro += std::to_string(hal::TimeNs{i} * 10 * hal::kNsPerMillisecond) + ",0.5\n";
   write_file(dir.path() / "gyro.csv", gyro);
   auto src = DatasetSource::open(dir.str());
   ASSERT_TRUE(src.ok()) << src.error();
