@@ -464,7 +464,7 @@ int run_normal(const Args& args) {
     report_log_source(*log_source, config.source.path, &loop);
   }
   if (dataset != nullptr) {
-    loop.count(Reject::kTimeJump, dataset->dataset().rows_refused, true);
+    loop.count(Reject::kTimeJump, dataset->summary().rows_refused, true);
     for (const std::string& m : dataset->image_error_messages()) {
       std::fprintf(stderr, "cleanslam: warning: %s\n", m.c_str());
     }
@@ -477,6 +477,10 @@ int run_normal(const Args& args) {
   print_summary(loop, stderr);
   if (end == RunEnd::kStopped) {
     std::fprintf(stderr, "cleanslam: stopped by signal, outputs flushed\n");
+  }
+  if (dataset != nullptr && !dataset->stream_error().empty()) {
+    std::fprintf(stderr, "cleanslam: error: %s\n", dataset->stream_error().c_str());
+    return 2;
   }
   return 0;
 }

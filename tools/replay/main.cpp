@@ -117,7 +117,7 @@ int fail(const std::string& message) {
 }
 
 // The file behind each silent source, for the error message.
-std::string source_file(const readers::Dataset& ds, firmware::HealthReport::Source s) {
+std::string source_file(const readers::DatasetSummary& ds, firmware::HealthReport::Source s) {
   switch (s) {
     case firmware::HealthReport::kGyro:
       return ds.folder + "/gyro.csv";
@@ -242,19 +242,9 @@ int main(int argc, char** argv) {
   loop.add_pose_sink(&published);
   loop.add_update_sink(&diagnostics);
   loop.add_update_sink(&fusion);
-  const auto& ds = source->dataset();
-  hal::TimeNs t0 = -1;
-  hal::TimeNs t1 = -1;
-  const auto span = [&](hal::TimeNs first, hal::TimeNs last) {
-    t0 = t0 < 0 ? first : std::min(t0, first);
-    t1 = std::max(t1, last);
-  };
-  if (!ds.gyro.empty()) {
-    span(ds.gyro.front().t_ns, ds.gyro.back().t_ns);
-  }
-  if (!ds.encoders.empty()) {
-    span(ds.encoders.front().t_ns, ds.encoders.back().t_ns);
-  }
+  const readers::DatasetSummary& ds = source->summary();
+  const hal::TimeNs t0 = ds.first_ns;
+  const hal::TimeNs t1 = ds.last_ns;
   Progress progress(t0, t1, ::isatty(STDERR_FILENO) != 0);
   loop.add_pose_sink(&progress);
   firmware::HealthReport health("cleanslam-replay", stderr);
@@ -276,6 +266,9 @@ int main(int argc, char** argv) {
   if (source->image_errors() > 0) {
     std::fprintf(stderr, "cleanslam-replay: warning: %d images failed to load: %s\n",
                  source->image_errors(), source->last_error().c_str());
+  }
+  if (!source->stream_error().empty()) {
+    return fail(source->stream_error());
   }
   if (end == firmware::RunEnd::kStopped) {
     return 130;

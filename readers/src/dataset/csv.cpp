@@ -2,7 +2,6 @@
 
 #include <charconv>
 #include <cmath>
-#include <fstream>
 
 namespace cleanslam::readers {
 namespace {
@@ -89,28 +88,31 @@ std::string CsvRow::fail_row(std::string_view message) const {
   return *file_ + ":" + std::to_string(line_) + ": " + std::string(message);
 }
 
-Status read_csv(const std::string& path, const CsvSpec& spec,
-                const std::function<std::string(const CsvRow&)>& on_row,
-                std::vector<std::string>* columns_out) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::failure(path + ": cannot open file");
-  std::string line;
-  if (!std::getline(in, line)) return Status::failure(path + ":1: empty file, expected a header");
-  const std::string_view header = trim(line);
+Status CsvReader::open(const std::string& path, const CsvSpec& spec) {
+  path_ = path;
+  warnings_ = spec.warnings;
+  line_no_ = 1;
+  done_ = true;
+  error_.clear();
+  columns_.clear();
+  in_.close();
+  in_.clear();
+  in_.open(path, std::ios::binary);
+  if (!in_) return Status::failure(path + ": cannot open file");
+  if (!std::getline(in_, line_)) return Status::failure(path + ":1: empty file, expected a header");
+  const std::string_view header = trim(line_);
   std::string expected(1, '#');
   expected += join(spec.columns);
-  std::vector<std::string_view> fields;
   if (header.empty() || header.front() != '#') {
     return Status::failure(path + ":1: expected the header \"" + expected + "\", got " +
                            quote(header));
   }
-  split_csv_line(header.substr(1), fields);
-  std::vector<std::string> columns;
-  for (std::string_view f : fields) columns.emplace_back(f);
+  split_csv_line(header.substr(1), fields_);
+  for (std::string_view f : fields_) columns_.emplace_back(f);
   std::vector<std::string> with_optional = spec.columns;
   with_optional.insert(with_optional.end(), spec.optional_columns.begin(),
                        spec.optional_columns.end());
-  if (columns != spec.columns && (spec.optional_columns.empty() || columns != with_optional)) {
+  if (columns_ != spec.columns && (spec.optional_columns.empty() || columns_ != with_optional)) {
     std::string msg = path + ":1: expected the header \"" + expected + "\"";
     if (!spec.optional_columns.empty()) {
       msg += " (optionally followed by ,";
@@ -119,30 +121,53 @@ Status read_csv(const std::string& path, const CsvSpec& spec,
     }
     return Status::failure(msg + ", got " + quote(header));
   }
-  if (columns_out != nullptr) *columns_out = columns;
+  done_ = false;
+  return Status();
+}
 
-  int line_no = 1;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const std::string_view body = trim(line);
+std::optional<CsvRow> CsvReader::next() {
+  while (!done_ && std::getline(in_, line_)) {
+    ++line_no_;
+    const std::string_view body = trim(line_);
     if (body.empty()) continue;
-    if (in.eof()) {
-      const std::string cut = path + ":" + std::to_string(line_no) +
+    if (in_.eof()) {
+      done_ = true;
+      const std::string cut = path_ + ":" + std::to_string(line_no_) +
                               ": the last line has no line end: the file was cut short";
-      if (spec.warnings == nullptr) return Status::failure(cut);
-      spec.warnings->push_back(cut + "; its last row is skipped");
-      break;
+      if (warnings_ == nullptr) {
+        error_ = cut;
+      } else {
+        warnings_->push_back(cut + "; its last row is skipped");
+      }
+      return std::nullopt;
     }
-    split_csv_line(body, fields);
-    CsvRow row(path, line_no, columns, fields);
-    if (fields.size() != columns.size()) {
-      return Status::failure(row.fail_row("expected " + std::to_string(columns.size()) +
-                                          " fields, got " + std::to_string(fields.size())));
+    split_csv_line(body, fields_);
+    CsvRow row(path_, line_no_, columns_, fields_);
+    if (fields_.size() != columns_.size()) {
+      done_ = true;
+      error_ = row.fail_row("expected " + std::to_string(columns_.size()) + " fields, got " +
+                            std::to_string(fields_.size()));
+      return std::nullopt;
     }
-    std::string err = on_row(row);
+    return row;
+  }
+  if (!done_ && in_.bad()) error_ = path_ + ": read error";
+  done_ = true;
+  return std::nullopt;
+}
+
+Status read_csv(const std::string& path, const CsvSpec& spec,
+                const std::function<std::string(const CsvRow&)>& on_row,
+                std::vector<std::string>* columns_out) {
+  CsvReader reader;
+  Status s = reader.open(path, spec);
+  if (!s) return s;
+  if (columns_out != nullptr) *columns_out = reader.columns();
+  while (const std::optional<CsvRow> row = reader.next()) {
+    std::string err = on_row(*row);
     if (!err.empty()) return Status::failure(std::move(err));
   }
-  if (in.bad()) return Status::failure(path + ": read error");
+  if (!reader.error().empty()) return Status::failure(reader.error());
   return Status();
 }
 

@@ -1,311 +1,145 @@
-#include <cmath>
 #include <filesystem>
-#include <limits>
 
-#include "cleanslam/readers/csv.hpp"
 #include "cleanslam/readers/dataset.hpp"
 #include "cleanslam/readers/gray_image.hpp"
+#include "dataset_scan.hpp"
+#include "row_reader.hpp"
 
 namespace cleanslam::readers {
 namespace fs = std::filesystem;
 namespace {
 
-// Time stamp in column 0, checked against the previous row's.
-std::string read_time(const CsvRow& row, hal::TimeNs previous, bool first, bool strictly,
-                      hal::TimeNs& out) {
-  auto t = row.integer(0);
-  if (!t.ok()) return t.error();
-  if (*t < 0) return row.fail(0, "negative time stamp " + std::to_string(*t));
-  if (!first && (*t < previous || (strictly && *t == previous))) {
-    return row.fail(0, "time stamp " + std::to_string(*t) + " is not after the previous row's " +
-                           std::to_string(previous) + " (rows must be sorted by time)");
+template <typename Row>
+Status visit_rows(const std::string& path, const RowLimits& limits,
+                  const std::function<void(const Row&)>& visit) {
+  RowReader<Row> reader;
+  Status s = reader.open(path, limits);
+  if (!s) return s;
+  Row row;
+  while (reader.next(row)) {
+    if (visit) visit(row);
   }
-  out = *t;
-  return {};
+  if (!reader.error().empty()) return Status::failure(reader.error());
+  return Status();
 }
 
-// Refuses rows stamped past the file's first row plus the span (RowLimits).
-class SpanCheck {
- public:
-  explicit SpanCheck(const RowLimits& limits) : limits_(limits) {}
-  bool keep(const CsvRow& row, hal::TimeNs t) {
-    if (!have_first_) {
-      have_first_ = true;
-      end_ = hal::add_saturated(t, limits_.max_span_ns);
+// Every image of cam0/data.csv exists and has the calibrated size (headers only). The file was
+// read before: its warnings are not told again.
+Status check_images(const std::string& cam_csv, const Dataset& d, const RowLimits& limits) {
+  std::vector<std::string> told_before;
+  const RowLimits quiet{limits.max_span_ns, &told_before, nullptr};
+  RowReader<CameraIndexRow> reader;
+  Status s = reader.open(cam_csv, quiet);
+  if (!s) return s;
+  CameraIndexRow row;
+  std::error_code ec;
+  while (reader.next(row)) {
+    const std::string where = cam_csv + ":" + std::to_string(row.line) + ": filename: ";
+    const std::string path = d.image_path(row);
+    if (!fs::is_regular_file(path, ec)) return Status::failure(where + path + ": image not found");
+    auto size = read_gray_image_size(path);
+    if (!size.ok()) return Status::failure(where + size.error());
+    if (size->width != d.calibration.camera.width || size->height != d.calibration.camera.height) {
+      return Status::failure(where + path + ": image is " + std::to_string(size->width) + "x" +
+                             std::to_string(size->height) + ", sensors.yaml says " +
+                             std::to_string(d.calibration.camera.width) + "x" +
+                             std::to_string(d.calibration.camera.height));
     }
-    if (t <= end_) return true;
-    if (limits_.refused != nullptr) ++*limits_.refused;
-    if (limits_.warnings != nullptr && ++told_ <= kMaxTold) {
-      limits_.warnings->push_back(row.fail(
-          0, "time stamp " + std::to_string(t) + " is more than " +
-                 format_double(hal::to_seconds(limits_.max_span_ns)) +
-                 " s (loop.max_span_s) after the file's first row: row refused" +
-                 (told_ == kMaxTold ? " (later ones of this file are refused without a message)"
-                                    : "")));
-    }
-    return false;
+    told_before.clear();
   }
-
- private:
-  static constexpr int kMaxTold = 3;
-  const RowLimits& limits_;
-  int told_ = 0;
-  bool have_first_ = false;
-  hal::TimeNs end_ = 0;
-};
-
-// Tick counts are 32-bit counters; values written as unsigned (up to 2^32 - 1) wrap.
-std::string read_ticks(const CsvRow& row, std::size_t i, std::int32_t& out) {
-  auto v = row.integer(i);
-  if (!v.ok()) return v.error();
-  if (*v < std::numeric_limits<std::int32_t>::min() ||
-      *v > static_cast<std::int64_t>(std::numeric_limits<std::uint32_t>::max())) {
-    return row.fail(i, std::to_string(*v) + " does not fit a 32-bit counter");
-  }
-  out = static_cast<std::int32_t>(static_cast<std::uint32_t>(*v));
-  return {};
+  if (!reader.error().empty()) return Status::failure(reader.error());
+  return Status();
 }
 
 }  // namespace
 
-Result<std::vector<hal::GyroSample>> read_gyro_csv(const std::string& path,
-                                                   const RowLimits& limits) {
-  using R = Result<std::vector<hal::GyroSample>>;
-  SpanCheck span(limits);
-  std::vector<hal::GyroSample> out;
-  std::vector<std::string> columns;
-  Status s = read_csv(
-      path, CsvSpec{{"t_ns", "wz_rad_s"}, {"wx_rad_s", "wy_rad_s"}, limits.warnings},
-      [&](const CsvRow& row) -> std::string {
-        hal::GyroSample g;
-        std::string e =
-            read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, g.t_ns);
-        if (!e.empty()) return e;
-        if (!span.keep(row, g.t_ns)) return {};
-        auto wz = row.number(1);
-        if (!wz.ok()) return wz.error();
-        g.wz_rad_s = *wz;
-        if (row.size() == 4) {
-          auto wx = row.number(2);
-          if (!wx.ok()) return wx.error();
-          auto wy = row.number(3);
-          if (!wy.ok()) return wy.error();
-          g.wx_rad_s = *wx;
-          g.wy_rad_s = *wy;
-          g.has_xy = true;
-        }
-        g.seq = static_cast<std::uint32_t>(out.size());
-        out.push_back(g);
-        return {};
-      },
-      &columns);
-  if (!s) return R::failure(s.error());
-  return out;
+std::string dataset_file(const std::string& folder, DatasetFile file) {
+  const fs::path root(folder);
+  switch (file) {
+    case DatasetFile::kGyro:
+      return (root / "gyro.csv").string();
+    case DatasetFile::kEncoders:
+      return (root / "encoders.csv").string();
+    case DatasetFile::kCamera:
+      return (root / "cam0" / "data.csv").string();
+    case DatasetFile::kFeatures:
+      return (root / "features.csv").string();
+    case DatasetFile::kLift:
+      return (root / "lift.csv").string();
+    case DatasetFile::kGroundTruth:
+      break;
+  }
+  return (root / "groundtruth.csv").string();
 }
 
-Result<std::vector<hal::EncoderSample>> read_encoders_csv(const std::string& path,
-                                                          const RowLimits& limits) {
-  using R = Result<std::vector<hal::EncoderSample>>;
-  SpanCheck span(limits);
-  std::vector<hal::EncoderSample> out;
-  Status s = read_csv(path, CsvSpec{{"t_ns", "left_ticks", "right_ticks"}, {}, limits.warnings},
-                      [&](const CsvRow& row) -> std::string {
-                        hal::EncoderSample e;
-                        std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
-                                                    out.empty(), true, e.t_ns);
-                        if (err.empty() && !span.keep(row, e.t_ns)) return {};
-                        if (err.empty()) err = read_ticks(row, 1, e.left_ticks);
-                        if (err.empty()) err = read_ticks(row, 2, e.right_ticks);
-                        if (!err.empty()) return err;
-                        e.seq = static_cast<std::uint32_t>(out.size());
-                        out.push_back(e);
-                        return {};
-                      });
-  if (!s) return R::failure(s.error());
-  return out;
-}
-
-Result<std::vector<CameraIndexRow>> read_camera_csv(const std::string& path,
-                                                    const RowLimits& limits) {
-  using R = Result<std::vector<CameraIndexRow>>;
-  SpanCheck span(limits);
-  std::vector<CameraIndexRow> out;
-  Status s = read_csv(path, CsvSpec{{"t_ns", "filename"}, {}, limits.warnings},
-                      [&](const CsvRow& row) -> std::string {
-                        CameraIndexRow c;
-                        std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
-                                                    out.empty(), true, c.t_ns);
-                        if (!err.empty()) return err;
-                        if (!span.keep(row, c.t_ns)) return {};
-                        const std::string_view name = row.text(1);
-                        if (name.empty()) return row.fail(1, "empty file name");
-                        const bool parent = name == ".." || name.starts_with("../") ||
-                                            name.ends_with("/..") ||
-                                            name.find("/../") != std::string_view::npos;
-                        if (name.front() == '/' || parent) {
-                          return row.fail(1, "file name must be relative to cam0/data/, got \"" +
-                                                 std::string(name) + "\"");
-                        }
-                        c.filename = std::string(name);
-                        c.line = row.line();
-                        out.push_back(std::move(c));
-                        return {};
-                      });
-  if (!s) return R::failure(s.error());
-  return out;
-}
-
-Result<std::vector<FeatureRow>> read_features_csv(const std::string& path,
-                                                  const RowLimits& limits) {
-  using R = Result<std::vector<FeatureRow>>;
-  SpanCheck span(limits);
-  std::vector<FeatureRow> out;
-  Status s = read_csv(path, CsvSpec{{"t_ns", "track_id", "u_px", "v_px"}, {}, limits.warnings},
-                      [&](const CsvRow& row) -> std::string {
-                        FeatureRow f;
-                        std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
-                                                    out.empty(), false, f.t_ns);
-                        if (!err.empty()) return err;
-                        if (!span.keep(row, f.t_ns)) return {};
-                        auto id = row.integer(1);
-                        if (!id.ok()) return id.error();
-                        if (*id < 0) return row.fail(1, "track id must be non-negative");
-                        auto u = row.number(2);
-                        if (!u.ok()) return u.error();
-                        auto v = row.number(3);
-                        if (!v.ok()) return v.error();
-                        f.observation = hal::FeatureObservation{*id, *u, *v};
-                        out.push_back(f);
-                        return {};
-                      });
-  if (!s) return R::failure(s.error());
-  return out;
-}
-
-Result<std::vector<GroundTruthPose>> read_groundtruth_csv(const std::string& path,
-                                                          const RowLimits& limits) {
-  using R = Result<std::vector<GroundTruthPose>>;
-  SpanCheck span(limits);
-  std::vector<GroundTruthPose> out;
-  Status s = read_csv(
-      path, CsvSpec{{"t_ns", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz"}, {}, limits.warnings},
-      [&](const CsvRow& row) -> std::string {
-        GroundTruthPose p;
-        std::string err =
-            read_time(row, out.empty() ? 0 : out.back().t_ns, out.empty(), true, p.t_ns);
-        if (!err.empty()) return err;
-        if (!span.keep(row, p.t_ns)) return {};
-        double v[7];
-        for (std::size_t i = 0; i < 7; ++i) {
-          auto x = row.number(i + 1);
-          if (!x.ok()) return x.error();
-          v[i] = *x;
-        }
-        const double n = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
-        if (std::abs(n - 1.0) > 1e-3) {
-          return row.fail(4, "quaternion norm " + format_double(n) + " is not 1");
-        }
-        p.position_m = {v[0], v[1], v[2]};
-        p.orientation_wxyz = {v[3] / n, v[4] / n, v[5] / n, v[6] / n};
-        out.push_back(p);
-        return {};
-      });
-  if (!s) return R::failure(s.error());
-  return out;
-}
-
-Result<std::vector<LiftRow>> read_lift_csv(const std::string& path, const RowLimits& limits) {
-  using R = Result<std::vector<LiftRow>>;
-  SpanCheck span(limits);
-  std::vector<LiftRow> out;
-  Status s = read_csv(path, CsvSpec{{"t_ns", "lifted"}, {}, limits.warnings},
-                      [&](const CsvRow& row) -> std::string {
-                        LiftRow l;
-                        std::string err = read_time(row, out.empty() ? 0 : out.back().t_ns,
-                                                    out.empty(), true, l.t_ns);
-                        if (!err.empty()) return err;
-                        if (!span.keep(row, l.t_ns)) return {};
-                        auto v = row.integer(1);
-                        if (!v.ok()) return v.error();
-                        if (*v != 0 && *v != 1)
-                          return row.fail(1, "expected 0 or 1, got " + std::to_string(*v));
-                        l.lifted = *v == 1;
-                        out.push_back(l);
-                        return {};
-                      });
-  if (!s) return R::failure(s.error());
-  return out;
-}
-
-std::string Dataset::image_path(const CameraIndexRow& row) const {
+std::string image_path(const std::string& folder, const CameraIndexRow& row) {
   return (fs::path(folder) / "cam0" / "data" / row.filename).string();
 }
 
-Result<Dataset> load_dataset(const std::string& folder, const LoadOptions& options) {
-  using R = Result<Dataset>;
+std::string Dataset::image_path(const CameraIndexRow& row) const {
+  return readers::image_path(folder, row);
+}
+
+Status scan_dataset(const std::string& folder, const LoadOptions& options, const RowVisitors& visit,
+                    Dataset& d) {
   std::error_code ec;
-  if (!fs::is_directory(folder, ec)) return R::failure(folder + ": not a dataset folder");
-  Dataset d;
+  if (!fs::is_directory(folder, ec)) return Status::failure(folder + ": not a dataset folder");
   d.folder = folder;
   const fs::path root(folder);
   auto cal = read_sensors_yaml((root / "sensors.yaml").string(), &d.warnings);
-  if (!cal.ok()) return R::failure(cal.error());
+  if (!cal.ok()) return Status::failure(cal.error());
   d.calibration = *cal;
   const RowLimits limits{options.max_span_ns, &d.warnings, &d.rows_refused};
-  auto gyro = read_gyro_csv((root / "gyro.csv").string(), limits);
-  if (!gyro.ok()) return R::failure(gyro.error());
-  d.gyro = std::move(gyro).value();
-  auto enc = read_encoders_csv((root / "encoders.csv").string(), limits);
-  if (!enc.ok()) return R::failure(enc.error());
-  d.encoders = std::move(enc).value();
+  Status s = visit_rows(dataset_file(folder, DatasetFile::kGyro), limits, visit.gyro);
+  if (!s) return s;
+  s = visit_rows(dataset_file(folder, DatasetFile::kEncoders), limits, visit.encoders);
+  if (!s) return s;
 
-  const fs::path cam_csv = root / "cam0" / "data.csv";
-  const fs::path features_csv = root / "features.csv";
+  const std::string cam_csv = dataset_file(folder, DatasetFile::kCamera);
+  const std::string features_csv = dataset_file(folder, DatasetFile::kFeatures);
   d.has_camera = fs::exists(cam_csv, ec);
   d.has_features = fs::exists(features_csv, ec);
   if (!d.has_camera && !d.has_features) {
-    return R::failure(folder + ": neither cam0/data.csv nor features.csv found (one is required)");
+    return Status::failure(folder +
+                           ": neither cam0/data.csv nor features.csv found (one is required)");
   }
   if (d.has_camera) {
-    auto cam = read_camera_csv(cam_csv.string(), limits);
-    if (!cam.ok()) return R::failure(cam.error());
-    d.camera = std::move(cam).value();
+    s = visit_rows(cam_csv, limits, visit.camera);
+    if (!s) return s;
     if (options.check_images) {
-      for (std::size_t i = 0; i < d.camera.size(); ++i) {
-        const std::string where =
-            cam_csv.string() + ":" + std::to_string(d.camera[i].line) + ": filename: ";
-        const std::string path = d.image_path(d.camera[i]);
-        if (!fs::is_regular_file(path, ec)) return R::failure(where + path + ": image not found");
-        auto size = read_gray_image_size(path);
-        if (!size.ok()) return R::failure(where + size.error());
-        if (size->width != d.calibration.camera.width ||
-            size->height != d.calibration.camera.height) {
-          return R::failure(where + path + ": image is " + std::to_string(size->width) + "x" +
-                            std::to_string(size->height) + ", sensors.yaml says " +
-                            std::to_string(d.calibration.camera.width) + "x" +
-                            std::to_string(d.calibration.camera.height));
-        }
-      }
+      s = check_images(cam_csv, d, limits);
+      if (!s) return s;
     }
   }
   if (d.has_features) {
-    auto f = read_features_csv(features_csv.string(), limits);
-    if (!f.ok()) return R::failure(f.error());
-    d.features = std::move(f).value();
+    s = visit_rows(features_csv, limits, visit.features);
+    if (!s) return s;
   }
-  const fs::path lift = root / "lift.csv";
+  const std::string lift = dataset_file(folder, DatasetFile::kLift);
   if (fs::exists(lift, ec)) {
-    auto l = read_lift_csv(lift.string(), limits);
-    if (!l.ok()) return R::failure(l.error());
-    d.lift = std::move(l).value();
+    s = visit_rows(lift, limits, visit.lift);
+    if (!s) return s;
   }
-  const fs::path gt = root / "groundtruth.csv";
+  const std::string gt = dataset_file(folder, DatasetFile::kGroundTruth);
   d.has_groundtruth = fs::exists(gt, ec);
   if (d.has_groundtruth) {
-    auto g = read_groundtruth_csv(gt.string(), limits);
-    if (!g.ok()) return R::failure(g.error());
-    d.groundtruth = std::move(g).value();
+    s = visit_rows(gt, limits, visit.groundtruth);
+    if (!s) return s;
   }
+  return Status();
+}
+
+Result<Dataset> load_dataset(const std::string& folder, const LoadOptions& options) {
+  Dataset d;
+  RowVisitors keep;
+  keep.gyro = [&d](const hal::GyroSample& r) { d.gyro.push_back(r); };
+  keep.encoders = [&d](const hal::EncoderSample& r) { d.encoders.push_back(r); };
+  keep.camera = [&d](const CameraIndexRow& r) { d.camera.push_back(r); };
+  keep.features = [&d](const FeatureRow& r) { d.features.push_back(r); };
+  keep.lift = [&d](const LiftRow& r) { d.lift.push_back(r); };
+  keep.groundtruth = [&d](const GroundTruthPose& r) { d.groundtruth.push_back(r); };
+  Status s = scan_dataset(folder, options, keep, d);
+  if (!s) return Result<Dataset>::failure(s.error());
   return d;
 }
 

@@ -629,7 +629,7 @@ TEST(DatasetSource, UnreadableImagesAreNamedWithTheirLine) {
   make_dataset(dir.str());
   auto src = DatasetSource::open(dir.str());
   ASSERT_TRUE(src.ok()) << src.error();
-  const std::string png = src->dataset().image_path(src->dataset().camera[1]);
+  const std::string png = (dir.path() / "cam0" / "data" / "750000000.png").string();
   std::string bytes = read_file(png);
   bytes.replace(bytes.size() / 2, 8, "XXXXXXXX");
   write_file(png, bytes);
@@ -651,4 +651,36 @@ TEST(Dataset, ACameraTimeOffsetBeyondHalfASecondIsAWarning) {
   ASSERT_EQ(d->warnings.size(), 1U);
   EXPECT_TRUE(contains(d->warnings[0], "camera.time_offset_s: -0.75 s is more than 0.5 s"))
       << d->warnings[0];
+}
+
+// Rows are read when they fall due: a file that changes after open() so that a row no longer
+// reads ends every stream at that row, with the message open() would have given.
+TEST(DatasetSource, ARowBrokenAfterOpenEndsTheStreamWithItsLine) {
+  TempDir dir;
+  make_dataset(dir.str());
+  std::string gyro = "#t_ns,wz_rad_s\n";
+  for (int i = 0; i < 5000; ++i)
+    gyro += std::to_string(hal::TimeNs{i} * 10 * hal::kNsPerMillisecond) + ",0.5\n";
+  write_file(dir.path() / "gyro.csv", gyro);
+  auto src = DatasetSource::open(dir.str());
+  ASSERT_TRUE(src.ok()) << src.error();
+  EXPECT_EQ(src->summary().last_ns, 49990 * hal::kNsPerMillisecond);
+  EXPECT_TRUE(src->stream_error().empty());
+  // The 4000th row (line 4001), in place, far past what a file buffer holds ahead.
+  const std::string row = "\n39990000000,0.5\n";
+  ASSERT_NE(gyro.find(row), std::string::npos);
+  gyro.replace(gyro.find(row), row.size(), "\n39990000000,nan\n");
+  {
+    std::fstream f(dir.path() / "gyro.csv", std::ios::in | std::ios::out | std::ios::binary);
+    f << gyro;  // the same inode, as an editor writing in place would
+  }
+  hal::SensorEvent ev;
+  int gyro_events = 0;
+  while (src->read(ev)) gyro_events += ev.kind == hal::SensorEvent::Kind::kGyro ? 1 : 0;
+  EXPECT_EQ(gyro_events, 3999);
+  EXPECT_TRUE(src->exhausted());
+  EXPECT_TRUE(contains(src->stream_error(),
+                       "gyro.csv:4001: wz_rad_s: expected a finite number, got \"nan\""))
+      << src->stream_error();
+  EXPECT_EQ(load_error(dir.str()), src->stream_error());
 }

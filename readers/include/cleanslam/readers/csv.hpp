@@ -1,7 +1,9 @@
 #pragma once
 
 #include <cstdint>
+#include <fstream>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,6 +42,34 @@ struct CsvSpec {
   // A last line without a line end (a file cut short: its last value may be cut too) is skipped
   // with a warning here; without `warnings` it is an error.
   std::vector<std::string>* warnings = nullptr;
+};
+
+// Reads a CSV file of the dataset format (the rules of read_csv below) one row at a time, holding
+// one line in memory. Not movable: the rows it hands out point into it.
+class CsvReader {
+ public:
+  CsvReader() = default;
+  CsvReader(const CsvReader&) = delete;
+  CsvReader& operator=(const CsvReader&) = delete;
+
+  // Opens the file and checks its header.
+  Status open(const std::string& path, const CsvSpec& spec);
+  // The next data row, valid until the next call; none at the end of the file or at an error
+  // (then error() says which).
+  std::optional<CsvRow> next();
+  [[nodiscard]] const std::string& error() const { return error_; }
+  [[nodiscard]] const std::vector<std::string>& columns() const { return columns_; }
+
+ private:
+  std::string path_;
+  std::vector<std::string>* warnings_ = nullptr;
+  std::ifstream in_;
+  std::string line_;
+  std::vector<std::string_view> fields_;
+  std::vector<std::string> columns_;
+  int line_no_ = 1;
+  bool done_ = true;
+  std::string error_;
 };
 
 // Reads a CSV file of the dataset format: one header line "#col1,col2,..." matching `spec`,
