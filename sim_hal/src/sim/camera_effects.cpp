@@ -15,7 +15,9 @@ double sensor_noise_sigma(double read_sigma, double shot_gain, double signal) {
   return std::sqrt(read_sigma * read_sigma + shot_gain * std::max(0.0, signal));
 }
 
-double AutoExposure::gain() const { return std::exp2(static_cast<double>(steps_) * step_ev_); }
+double AutoExposure::gain() const {
+  return std::exp2(static_cast<double>(steps_) * step_ev_);
+}
 
 void AutoExposure::update(double mean_gray) {
   const double error_ev = std::log2(target_ / std::max(mean_gray, 1.0));

@@ -1,9 +1,10 @@
 #include "cleanslam/sim_hal/sim/photo_textures.hpp"
 
+#include <png.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include "cleanslam/readers/gray_image.hpp"
+#include <cstdint>
 
 namespace cleanslam::sim_hal::sim {
 namespace {
@@ -11,8 +12,30 @@ namespace {
 double texel(const std::vector<float>& t, int w, int h, int x, int y) {
   x = ((x % w) + w) % w;
   y = ((y % h) + h) % h;
-  return static_cast<double>(t[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
-                               static_cast<std::size_t>(x)]);
+  return static_cast<double>(
+      t[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)]);
+}
+
+// Any PNG (gray, colour, palette, 16 bits) as 8-bit gray; an empty string or the reason it failed.
+std::string read_png_as_gray(const std::string& path, int& width, int& height,
+                             std::vector<std::uint8_t>& pixels) {
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  if (png_image_begin_read_from_file(&png, path.c_str()) == 0) {
+    std::string why = png.message;
+    png_image_free(&png);
+    return path + ": " + why;
+  }
+  png.format = PNG_FORMAT_GRAY;
+  width = static_cast<int>(png.width);
+  height = static_cast<int>(png.height);
+  pixels.resize(PNG_IMAGE_SIZE(png));
+  if (png_image_finish_read(&png, nullptr, pixels.data(), 0, nullptr) == 0) {
+    std::string why = png.message;
+    png_image_free(&png);
+    return path + ": " + why;
+  }
+  return {};
 }
 
 }  // namespace
@@ -20,30 +43,33 @@ double texel(const std::vector<float>& t, int w, int h, int x, int y) {
 const std::vector<std::string>& PhotoTextures::file_names() {
   // 0-2 surfaces (bricks, gravel, grass), 3.. framed pictures and furniture fronts.
   static const std::vector<std::string> kNames = {
-      "brick.png",  "gravel.png",          "grass.png", "camera.png", "coffee.png",
-      "chelsea.png", "astronaut.png",      "coins.png", "moon.png",   "motorcycle_left.png",
-      "page.png",   "text.png"};
+      "brick.png",  "gravel.png",          "grass.png",     "camera.png",
+      "coffee.png", "chelsea.png",         "astronaut.png", "coins.png",
+      "moon.png",   "motorcycle_left.png", "page.png",      "text.png"};
   return kNames;
 }
 
 void PhotoTextures::load(const std::string& dir, std::vector<std::string>& missing) {
   photos_.clear();
   missing_ = 0;
-  readers::GrayImage image;
+  std::vector<std::uint8_t> pixels;
   for (const std::string& name : file_names()) {
-    const std::string path = dir + "/" + name;
-    if (!readers::read_gray_image(path, image) || image.width < 2 || image.height < 2) {
-      missing.push_back(path);
+    int width = 0;
+    int height = 0;
+    std::string error = read_png_as_gray(dir + "/" + name, width, height, pixels);
+    if (error.empty() && (width < 2 || height < 2)) error = dir + "/" + name + ": too small";
+    if (!error.empty()) {
+      missing.push_back(error);
       ++missing_;
       continue;
     }
     std::vector<Level> pyramid(1);
     Level& base = pyramid[0];
-    base.width = image.width;
-    base.height = image.height;
-    base.texels.resize(image.pixels.size());
-    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-      base.texels[i] = static_cast<float>(image.pixels[i]) / 255.0F;
+    base.width = width;
+    base.height = height;
+    base.texels.resize(pixels.size());
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+      base.texels[i] = static_cast<float>(pixels[i]) / 255.0F;
     }
     while (pyramid.back().width >= 4 && pyramid.back().height >= 4) {
       const Level& f = pyramid.back();
@@ -76,9 +102,9 @@ double PhotoTextures::sample(std::size_t index, double s, double t, double footp
   const auto& pyramid = photos_[index % photos_.size()];
   const double texels_covered = footprint * static_cast<double>(pyramid[0].width);
   const int top = static_cast<int>(pyramid.size()) - 1;
-  const int level =
-      texels_covered > 1.0 ? std::min(top, static_cast<int>(std::lround(std::log2(texels_covered))))
-                           : 0;
+  const int level = texels_covered > 1.0
+                        ? std::min(top, static_cast<int>(std::lround(std::log2(texels_covered))))
+                        : 0;
   const Level& l = pyramid[static_cast<std::size_t>(level)];
   const double x = (s - std::floor(s)) * l.width - 0.5, y = (t - std::floor(t)) * l.height - 0.5;
   const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));

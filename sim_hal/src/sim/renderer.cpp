@@ -89,7 +89,7 @@ Renderer::Renderer(const Scenario& sc)
     } else {
       textures_note_ = "procedural textures: camera.textures is photos but " +
                        (missing.empty() ? camera_.photo_dir : missing.front()) +
-                       " cannot be read (the photographs come with the Debian package "
+                       " (the photographs come with the Debian package "
                        "python3-skimage, which tools/setup.sh installs)";
     }
   }
@@ -131,7 +131,8 @@ double Renderer::photo_albedo(int surface, double a, double b, double footprint)
   }
   if (surface % 2 == 0) {
     constexpr double kTile = 1.2;
-    return 0.25 + 0.6 * photos_.sample(kBrick, a / kTile, -b / kTile, footprint / kTile);
+    // The photograph's courses run down the picture: turned a quarter to run along the wall.
+    return 0.25 + 0.6 * photos_.sample(kBrick, -b / kTile, a / kTile, footprint / kTile);
   }
   constexpr double kTile = 2.0;
   return 0.62 + 0.2 * photos_.sample(kGrass, a / kTile, -b / kTile, footprint / kTile);

@@ -13,7 +13,8 @@ class PhotoTextures {
   // The photographs of the scikit-image sample data the renderer uses, by role.
   static const std::vector<std::string>& file_names();
 
-  // Reads every file of file_names() from `dir`; `missing` lists what could not be read.
+  // Reads every file of file_names() from `dir`; `missing` gets a line (path: reason) per
+  // file that could not be read.
   void load(const std::string& dir, std::vector<std::string>& missing);
   [[nodiscard]] bool complete() const { return !photos_.empty() && missing_ == 0; }
   [[nodiscard]] std::size_t size() const { return photos_.size(); }

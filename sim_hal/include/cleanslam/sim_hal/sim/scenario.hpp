@@ -123,7 +123,7 @@ struct Scenario {
     double shot_noise_gain = 0.0;  // gray levels per photo-electron: variance = gain * signal
     double vignetting = 0.0;       // 1: the cos^4 law of the pinhole; 0: none
     bool auto_exposure = false;    // gain steps towards auto_exposure_target, one per frame
-    double auto_exposure_target = 110.0;   // mean gray level
+    double auto_exposure_target = 110.0;       // mean gray level
     double auto_exposure_step_ev = 1.0 / 3.0;  // gain quantum, in stops
   } camera;
 
