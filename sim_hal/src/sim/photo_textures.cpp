@@ -42,10 +42,9 @@ std::string read_png_as_gray(const std::string& path, int& width, int& height,
 
 const std::vector<std::string>& PhotoTextures::file_names() {
   // 0-2 surfaces (bricks, gravel, grass), 3.. framed pictures and furniture fronts.
-  static const std::vector<std::string> kNames = {
-      "brick.png",  "gravel.png",          "grass.png",     "camera.png",
-      "coffee.png", "chelsea.png",         "astronaut.png", "coins.png",
-      "moon.png",   "motorcycle_left.png", "page.png",      "text.png"};
+  static const std::vector<std::string> kNames = {"brick.png",     "gravel.png", "grass.png",
+                                                  "camera.png",    "coffee.png", "chelsea.png",
+                                                  "astronaut.png", "coins.png",  "text.png"};
   return kNames;
 }
 

@@ -39,7 +39,9 @@ readers::GrayImage render(const sim::Scenario& sc, const std::vector<sim::Pose3>
   return img;
 }
 
-double at(const readers::GrayImage& img, int x, int y) { return img.at(x, y); }
+double at(const readers::GrayImage& img, int x, int y) {
+  return img.at(x, y);
+}
 
 // `img` averaged over horizontal shifts spread evenly over a width of `width` px (a box filter,
 // linear interpolation between pixels).
