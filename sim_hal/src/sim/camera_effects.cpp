@@ -11,8 +11,9 @@ double vignetting_factor(const Scenario::Camera& c, double x, double y) {
   return 1.0 / (q * q);
 }
 
-double sensor_noise_sigma(double read_sigma, double shot_gain, double signal) {
-  return std::sqrt(read_sigma * read_sigma + shot_gain * std::max(0.0, signal));
+double sensor_noise_sigma(double read_sigma, double shot_gain, double signal, double gain) {
+  const double read = read_sigma * gain;
+  return std::sqrt(read * read + shot_gain * gain * std::max(0.0, signal));
 }
 
 double AutoExposure::gain() const {

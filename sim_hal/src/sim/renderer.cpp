@@ -264,7 +264,7 @@ void Renderer::render(const Pose3& wc, double exposure, Random& rng, readers::Gr
 }
 
 void Renderer::render(const std::vector<Pose3>& poses, double exposure, Random& rng,
-                      readers::GrayImage& out) {
+                      readers::GrayImage& out, double gain) {
   const int w = camera_.width, h = camera_.height;
   const std::size_t n = rays_.size();
   if (poses.empty()) return;
@@ -322,8 +322,9 @@ void Renderer::render(const std::vector<Pose3>& poses, double exposure, Random& 
   out.pixels.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double signal = static_cast<double>(radiance_[i]);
-    const double sigma =
-        shot_gain_ > 0.0 ? sensor_noise_sigma(noise_sigma_, shot_gain_, signal) : noise_sigma_;
+    const double sigma = shot_gain_ > 0.0
+                             ? sensor_noise_sigma(noise_sigma_, shot_gain_, signal, gain)
+                             : noise_sigma_;
     const double v = signal + rng.gaussian(sigma);
     out.pixels[i] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
   }

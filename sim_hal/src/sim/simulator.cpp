@@ -304,7 +304,7 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
           exposure_poses.push_back(wc);
         }
         const double gain = c.auto_exposure ? auto_exposure.gain() : 1.0;
-        renderer->render(exposure_poses, exposure * gain, image_rng, image);
+        renderer->render(exposure_poses, exposure * gain, image_rng, image, gain);
         if (c.auto_exposure) {
           double mean = 0.0;
           for (const std::uint8_t p : image.pixels) mean += p;

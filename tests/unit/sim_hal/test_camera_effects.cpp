@@ -155,7 +155,10 @@ TEST(CameraEffects, NoiseVarianceGrowsWithTheSignal) {
     EXPECT_NEAR(variance, expected, 0.1 * expected) << "signal " << signal;
   }
   EXPECT_GE(bands, 2);
-  EXPECT_DOUBLE_EQ(sim::sensor_noise_sigma(2.0, 0.5, 32.0), std::sqrt(4.0 + 16.0));
+  EXPECT_DOUBLE_EQ(sim::sensor_noise_sigma(2.0, 0.5, 32.0, 1.0), std::sqrt(4.0 + 16.0));
+  // At gain 4 the same signal came from a quarter of the light: 4 times the read noise, twice
+  // the shot noise's standard deviation.
+  EXPECT_DOUBLE_EQ(sim::sensor_noise_sigma(2.0, 0.5, 32.0, 4.0), std::sqrt(64.0 + 64.0));
 }
 
 TEST(CameraEffects, AutoExposureStepsTheGainTowardsTheTarget) {

@@ -10,9 +10,11 @@ namespace cleanslam::sim_hal::sim {
 // point in focal lengths and a = camera.vignetting (a = 1: the cos^4 law of the pinhole).
 [[nodiscard]] double vignetting_factor(const Scenario::Camera& camera, double x, double y);
 
-// Standard deviation in gray levels of a pixel of mean `signal` (gray levels): read noise
-// `read_sigma` and photon shot noise, variance `shot_gain` * signal.
-[[nodiscard]] double sensor_noise_sigma(double read_sigma, double shot_gain, double signal);
+// Standard deviation in gray levels of a pixel of mean `signal` (gray levels) at analog gain
+// `gain`: read noise `read_sigma` and photon shot noise, variance `shot_gain` * signal, both
+// at gain 1 and amplified with the gain (a dark scene brightened by the gain is noisier).
+[[nodiscard]] double sensor_noise_sigma(double read_sigma, double shot_gain, double signal,
+                                        double gain);
 
 // Auto exposure: after each frame, moves the gain by whole steps of `step_ev` stops towards the
 // gain that would have brought the frame's mean gray level to `target` (at most two steps a

@@ -25,9 +25,10 @@ class Renderer {
   // brightness gain `exposure` (1 = nominal); `rng` draws the pixel noise.
   void render(const Pose3& world_camera, double exposure, Random& rng, readers::GrayImage& out);
   // The same, integrating the light over the camera poses `exposure_poses` (evenly spread over
-  // the exposure time): motion blur.
+  // the exposure time): motion blur. `exposure` includes the analog `gain`, which with
+  // camera.shot_noise_gain > 0 also amplifies the noise.
   void render(const std::vector<Pose3>& exposure_poses, double exposure, Random& rng,
-              readers::GrayImage& out);
+              readers::GrayImage& out, double gain = 1.0);
 
   // Whether the surfaces wear photographs (camera.textures = photos and every one was read), and
   // a sentence saying which textures are in use and, if the photographs are missing, why.
