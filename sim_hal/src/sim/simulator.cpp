@@ -10,7 +10,7 @@
 #include <numbers>
 
 #include "cleanslam/sim_hal/dataset_writer.hpp"
-#include "cleanslam/sim_hal/sim/camera_effects.hpp"
+#include "cleanslam/sim_hal/sim/frame_exposure.hpp"
 #include "cleanslam/sim_hal/sim/random.hpp"
 #include "cleanslam/sim_hal/sim/renderer.hpp"
 #include "cleanslam/sim_hal/sim/trajectory.hpp"
@@ -234,11 +234,7 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
     std::unique_ptr<Renderer> renderer;
     if (write_images) renderer = std::make_unique<Renderer>(sc);
     readers::GrayImage image;
-    double exposure = 1.0;
-    AutoExposure auto_exposure(c.auto_exposure_target, c.auto_exposure_step_ev);
-    int min_steps = 0;
-    int max_steps = 0;
-    std::vector<Pose3> exposure_poses;
+    FrameExposure frame_exposure(c, body_to_camera(c));
     const double dt = 1.0 / c.rate_hz;
     const double phase = 0.013;
     const Pose3 bc = body_to_camera(c);
@@ -286,32 +282,7 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
       last_stamp = stamp;
       if (write_features) writer.add_features(stamp, obs.data(), static_cast<int>(obs.size()));
       if (write_images) {
-        exposure *= std::exp(image_rng.gaussian(c.exposure_walk));
-        if (image_rng.chance(c.exposure_jump_probability)) {
-          exposure *= image_rng.uniform(0.7, 1.3);
-        }
-        exposure = std::clamp(exposure, 0.5, 1.6);
-        exposure_poses.clear();
-        if (c.exposure_time_s > 0.0) {
-          // The exposure is centred on the frame's instant, so that features.csv (at the
-          // instant) and the image agree on average.
-          const int n = std::max(1, c.exposure_samples);
-          for (int i = 0; i < n; ++i) {
-            const double ti = t + c.exposure_time_s * ((i + 0.5) / n - 0.5);
-            exposure_poses.push_back(compose(Trajectory::body_pose(traj.at(ti)), bc));
-          }
-        } else {
-          exposure_poses.push_back(wc);
-        }
-        const double gain = c.auto_exposure ? auto_exposure.gain() : 1.0;
-        renderer->render(exposure_poses, exposure * gain, image_rng, image, gain);
-        if (c.auto_exposure) {
-          double mean = 0.0;
-          for (const std::uint8_t p : image.pixels) mean += p;
-          auto_exposure.update(mean / static_cast<double>(image.pixels.size()));
-          min_steps = std::min(min_steps, auto_exposure.steps());
-          max_steps = std::max(max_steps, auto_exposure.steps());
-        }
+        frame_exposure.render(*renderer, traj, t, image_rng, image);
         s = writer.add_image(stamp, image.view());
         if (!s) return R::failure(s.error());
       }
@@ -332,8 +303,7 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
       if (c.auto_exposure) {
         char range[96];
         std::snprintf(range, sizeof range, "; auto-exposure gain %.2f..%.2f",
-                      std::exp2(min_steps * c.auto_exposure_step_ev),
-                      std::exp2(max_steps * c.auto_exposure_step_ev));
+                      frame_exposure.min_gain(), frame_exposure.max_gain());
         sum.images += range;
       }
     }
