@@ -11,8 +11,8 @@ FrameExposure::FrameExposure(const Scenario::Camera& camera, const Pose3& body_t
       body_to_camera_(body_to_camera),
       auto_exposure_(camera.auto_exposure_target, camera.auto_exposure_step_ev) {}
 
-void FrameExposure::render(Renderer& renderer, const Trajectory& trajectory, double t,
-                           Random& rng, readers::GrayImage& out) {
+void FrameExposure::render(Renderer& renderer, const Trajectory& trajectory, double t, Random& rng,
+                           readers::GrayImage& out) {
   const auto& c = camera_;
   illumination_ *= std::exp(rng.gaussian(c.exposure_walk));
   if (rng.chance(c.exposure_jump_probability)) illumination_ *= rng.uniform(0.7, 1.3);
@@ -40,8 +40,12 @@ void FrameExposure::render(Renderer& renderer, const Trajectory& trajectory, dou
   }
 }
 
-double FrameExposure::min_gain() const { return std::exp2(min_steps_ * camera_.auto_exposure_step_ev); }
+double FrameExposure::min_gain() const {
+  return std::exp2(min_steps_ * camera_.auto_exposure_step_ev);
+}
 
-double FrameExposure::max_gain() const { return std::exp2(max_steps_ * camera_.auto_exposure_step_ev); }
+double FrameExposure::max_gain() const {
+  return std::exp2(max_steps_ * camera_.auto_exposure_step_ev);
+}
 
 }  // namespace cleanslam::sim_hal::sim

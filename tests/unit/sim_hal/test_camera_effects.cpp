@@ -5,9 +5,11 @@
 #include <vector>
 
 #include "cleanslam/sim_hal/sim/camera_effects.hpp"
+#include "cleanslam/sim_hal/sim/frame_exposure.hpp"
 #include "cleanslam/sim_hal/sim/renderer.hpp"
 #include "cleanslam/sim_hal/sim/scenario.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
+#include "cleanslam/sim_hal/sim/trajectory.hpp"
 
 using namespace cleanslam;
 namespace sim = cleanslam::sim_hal::sim;
@@ -100,6 +102,61 @@ TEST(CameraEffects, MotionBlurIsABoxAsLongAsTheImageMotionDuringTheExposure) {
     EXPECT_LT(right, 0.6 * half) << length_px;
     EXPECT_LT(right, 0.6 * twice) << length_px;
   }
+}
+
+TEST(CameraEffects, FramesIntegrateTheTurnDuringTheExposureTime) {
+  // The simulator's frame exposure on a robot turning in place at 0.9 rad/s: a 30 ms exposure
+  // smears the centre of the image over 280 px * 0.9 rad/s * 0.03 s = 7.6 px.
+  const std::vector<std::string> steady = {"camera.exposure_walk=0",
+                                           "camera.exposure_jump_probability=0"};
+  auto with = [&](std::vector<std::string> extra) {
+    extra.insert(extra.end(), steady.begin(), steady.end());
+    return clean_room(extra);
+  };
+  const auto sharp_sc = with({});
+  const auto blur_sc = with({"camera.exposure_time_s=0.03", "camera.exposure_samples=16"});
+  const sim::Trajectory turning({{4.0, 0.0, 0.9, false, {}}}, {1.5, 2.5, -1.8}, 0.235);
+  auto frame = [&](const sim::Scenario& sc) {
+    sim::Renderer renderer(sc);
+    sim::FrameExposure exposure(sc.camera, sim::body_to_camera(sc.camera));
+    sim::Random rng(3, 5);
+    readers::GrayImage img;
+    exposure.render(renderer, turning, 2.0, rng, img);
+    return img;
+  };
+  const auto sharp = frame(sharp_sc);
+  const auto blurred = frame(blur_sc);
+  const double length_px = 280.0 * 0.9 * 0.03;
+  const double right = rms_central(blurred, box_x(sharp, length_px));
+  EXPECT_LT(right, 0.3 * rms_central(blurred, box_x(sharp, 0.0)));
+  EXPECT_LT(right, 0.6 * rms_central(blurred, box_x(sharp, 0.5 * length_px)));
+  EXPECT_LT(right, 0.6 * rms_central(blurred, box_x(sharp, 2.0 * length_px)));
+}
+
+TEST(CameraEffects, FramesAutoExposeTowardsTheTarget) {
+  // Standing still in front of a wall with the light at half its nominal level: the auto
+  // exposure raises the gain in whole steps until the mean gray level is within half a step
+  // of the target.
+  const auto sc = clean_room({"camera.exposure_walk=0", "camera.exposure_jump_probability=0",
+                              "camera.auto_exposure=true", "camera.auto_exposure_target=150",
+                              "camera.auto_exposure_step_ev=0.25"});
+  const sim::Trajectory still({{10.0, 0.0, 0.0, false, {}}}, {3.0, 2.5, 0.0}, 0.235);
+  sim::Renderer renderer(sc);
+  sim::FrameExposure exposure(sc.camera, sim::body_to_camera(sc.camera));
+  sim::Random rng(3, 5);
+  readers::GrayImage img;
+  auto mean = [&] {
+    double s = 0.0;
+    for (const auto p : img.pixels) s += p;
+    return s / static_cast<double>(img.pixels.size());
+  };
+  exposure.render(renderer, still, 0.0, rng, img);
+  const double first = mean();
+  for (int k = 1; k < 12; ++k) exposure.render(renderer, still, 0.5 * k, rng, img);
+  EXPECT_GT(exposure.max_gain(), 1.0);
+  EXPECT_NEAR(std::log2(mean() / 150.0), 0.0, 0.125 + 0.02) << "first frame " << first;
+  const double steps = std::log2(exposure.max_gain()) / 0.25;
+  EXPECT_NEAR(steps, std::round(steps), 1e-9);
 }
 
 TEST(CameraEffects, VignettingFollowsTheCos4Profile) {
