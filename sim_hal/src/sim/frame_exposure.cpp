@@ -15,7 +15,9 @@ void FrameExposure::render(Renderer& renderer, const Trajectory& trajectory, dou
                            readers::GrayImage& out) {
   const auto& c = camera_;
   illumination_ *= std::exp(rng.gaussian(c.exposure_walk));
-  if (rng.chance(c.exposure_jump_probability)) illumination_ *= rng.uniform(0.7, 1.3);
+  if (rng.chance(c.exposure_jump_probability)) {
+    illumination_ *= rng.uniform(0.7, 1.3);
+  }
   illumination_ = std::clamp(illumination_, 0.5, 1.6);
   poses_.clear();
   if (c.exposure_time_s > 0.0) {
@@ -33,7 +35,9 @@ void FrameExposure::render(Renderer& renderer, const Trajectory& trajectory, dou
   renderer.render(poses_, illumination_ * gain, rng, out, gain);
   if (c.auto_exposure) {
     double sum = 0.0;
-    for (const std::uint8_t p : out.pixels) sum += p;
+    for (const std::uint8_t p : out.pixels) {
+      sum += p;
+    }
     auto_exposure_.update(sum / static_cast<double>(std::max<std::size_t>(1, out.pixels.size())));
     min_steps_ = std::min(min_steps_, auto_exposure_.steps());
     max_steps_ = std::max(max_steps_, auto_exposure_.steps());

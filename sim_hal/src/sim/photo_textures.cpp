@@ -42,10 +42,10 @@ std::string read_png_as_gray(const std::string& path, int& width, int& height,
 
 const std::vector<std::string>& PhotoTextures::file_names() {
   // 0-2 surfaces (bricks, gravel, grass), 3.. framed pictures and furniture fronts.
-  static const std::vector<std::string> kNames = {"brick.png",     "gravel.png", "grass.png",
-                                                  "camera.png",    "coffee.png", "chelsea.png",
-                                                  "astronaut.png", "coins.png",  "text.png"};
-  return kNames;
+  static const std::vector<std::string> names = {"brick.png",     "gravel.png", "grass.png",
+                                                 "camera.png",    "coffee.png", "chelsea.png",
+                                                 "astronaut.png", "coins.png",  "text.png"};
+  return names;
 }
 
 void PhotoTextures::load(const std::string& dir, std::vector<std::string>& missing) {
@@ -55,8 +55,14 @@ void PhotoTextures::load(const std::string& dir, std::vector<std::string>& missi
   for (const std::string& name : file_names()) {
     int width = 0;
     int height = 0;
-    std::string error = read_png_as_gray(dir + "/" + name, width, height, pixels);
-    if (error.empty() && (width < 2 || height < 2)) error = dir + "/" + name + ": too small";
+    std::string path = dir;
+    path += '/';
+    path += name;
+    std::string error = read_png_as_gray(path, width, height, pixels);
+    if (error.empty() && (width < 2 || height < 2)) {
+      error = path;
+      error += ": too small";
+    }
     if (!error.empty()) {
       missing.push_back(error);
       ++missing_;
