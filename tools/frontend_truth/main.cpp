@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cleanslam/readers/gray_image.hpp"
+#include "cleanslam/sim_hal/sim/frame_exposure.hpp"
 #include "cleanslam/sim_hal/sim/random.hpp"
 #include "cleanslam/sim_hal/sim/renderer.hpp"
 #include "cleanslam/sim_hal/sim/scenario.hpp"
@@ -364,16 +365,13 @@ int main(int argc, char** argv) {
   }
 
   cleanslam::readers::GrayImage image;
-  double exposure = 1.0;
+  sim::FrameExposure frame_exposure(cam, bc);
   const double dt = 1.0 / cam.rate_hz;
   for (int k = 0; k < o.frames; ++k) {
     const double t = 0.013 + static_cast<double>(k) * dt;
     if (t > traj.duration()) break;
     const sim::Pose3 wc = sim::compose(sim::Trajectory::body_pose(traj.at(t)), bc);
-    exposure *= std::exp(image_rng.gaussian(cam.exposure_walk));
-    if (image_rng.chance(cam.exposure_jump_probability)) exposure *= image_rng.uniform(0.7, 1.3);
-    exposure = std::clamp(exposure, 0.5, 1.6);
-    renderer.render(wc, exposure, image_rng, image);
+    frame_exposure.render(renderer, traj, t, image_rng, image);
     const auto view = image.view();
     harris.detect(view, cam.width, cam.height);
 

@@ -155,5 +155,6 @@ int main(int argc, char** argv) {
       positional[1].c_str(), s.duration_s, s.path_length_m, s.landmarks, s.frames,
       s.frames_without_features, s.mean_features, 100.0 * s.fraction_frames_5_to_10,
       100.0 * s.fraction_frames_5_or_more, s.longest_gap_s, s.slip_events);
+  if (!s.images.empty()) std::fprintf(stderr, "  images: %s\n", s.images.c_str());
   return 0;
 }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "cleanslam/sim_hal/sim/camera_effects.hpp"
+
 namespace cleanslam::sim_hal::sim {
 namespace {
 
@@ -48,7 +50,8 @@ Renderer::Renderer(const Scenario& sc)
       boxes_(sc.world.furniture),
       seed_(sc.seed * 0x2545F4914F6CDD1DULL + 7),
       noise_sigma_(sc.camera.image_noise),
-      blur_(sc.camera.blur) {
+      blur_(sc.camera.blur),
+      shot_gain_(sc.camera.shot_noise_gain) {
   const int w = camera_.width, h = camera_.height;
   const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   rays_.reserve(pixels);
@@ -68,6 +71,71 @@ Renderer::Renderer(const Scenario& sc)
   }
   radiance_.resize(pixels);
   scratch_.resize(pixels);
+  if (camera_.vignetting > 0.0) {
+    vignette_.reserve(pixels);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        vignette_.push_back(static_cast<float>(vignetting_factor(camera_, x, y)));
+      }
+    }
+  }
+  textures_note_ = "procedural textures";
+  if (camera_.textures == "photos") {
+    std::vector<std::string> missing;
+    photos_.load(camera_.photo_dir, missing);
+    photos_in_use_ = photos_.complete();
+    if (photos_in_use_) {
+      textures_note_ = "textures from the photographs in " + camera_.photo_dir;
+    } else {
+      textures_note_ = "procedural textures: camera.textures is photos but " +
+                       (missing.empty() ? camera_.photo_dir : missing.front()) +
+                       " (the photographs come with the Debian package "
+                       "python3-skimage, which tools/setup.sh installs)";
+    }
+  }
+}
+
+double Renderer::photo_albedo(int surface, double a, double b, double footprint) const {
+  enum Photo : std::size_t { kBrick = 0, kGravel = 1, kGrass = 2, kFirstPicture = 3 };
+  const std::size_t pictures = photos_.size() - kFirstPicture;
+  if (surface == 0) {
+    constexpr double kTile = 1.0;
+    return 0.2 + 0.45 * photos_.sample(kGravel, a / kTile, b / kTile, footprint / kTile);
+  }
+  if (surface == 1) return 0.85;
+  if (surface >= 6) {
+    constexpr double kTile = 0.8;
+    const std::uint64_t h = hash3(seed_, surface, 0, 3);
+    const std::size_t photo = kFirstPicture + h % pictures;
+    return 0.1 + 0.8 * photos_.sample(photo, a / kTile, -b / kTile, footprint / kTile);
+  }
+  // Walls: bricks or paint, with framed pictures hung in 1 m cells.
+  constexpr double kCell = 1.0;
+  const std::int64_t ci = cell(a, kCell);
+  const std::uint64_t h = hash3(seed_ ^ static_cast<std::uint64_t>(surface), ci, 0, 4);
+  if (h % 4 != 0) {
+    const std::size_t photo = kFirstPicture + (h >> 8) % pictures;
+    const double width = 0.45 + 0.35 * unit(h, 16);
+    const double height = width * photos_.aspect(photo);
+    const double left = static_cast<double>(ci) * kCell + (kCell - width) * unit(h, 32);
+    const double bottom = 0.3 + 0.4 * unit(h, 48);
+    constexpr double kFrame = 0.03;
+    const double s = (a - left) / width, t = (bottom + height - b) / height;
+    if (s >= 0.0 && s < 1.0 && t >= 0.0 && t < 1.0) {
+      return 0.05 + 0.9 * photos_.sample(photo, s, t, footprint / width);
+    }
+    if (a > left - kFrame && a < left + width + kFrame && b > bottom - kFrame &&
+        b < bottom + height + kFrame) {
+      return 0.12;
+    }
+  }
+  if (surface % 2 == 0) {
+    constexpr double kTile = 1.2;
+    // The photograph's courses run down the picture: turned a quarter to run along the wall.
+    return 0.25 + 0.6 * photos_.sample(kBrick, -b / kTile, a / kTile, footprint / kTile);
+  }
+  constexpr double kTile = 2.0;
+  return 0.62 + 0.2 * photos_.sample(kGrass, a / kTile, -b / kTile, footprint / kTile);
 }
 
 double Renderer::albedo(int surface, double a, double b) const {
@@ -192,22 +260,37 @@ Renderer::Hit Renderer::cast(Vec3 o, Vec3 d) const {
 }
 
 void Renderer::render(const Pose3& wc, double exposure, Random& rng, readers::GrayImage& out) {
+  render(std::vector<Pose3>{wc}, exposure, rng, out);
+}
+
+void Renderer::render(const std::vector<Pose3>& poses, double exposure, Random& rng,
+                      readers::GrayImage& out, double gain) {
   const int w = camera_.width, h = camera_.height;
   const std::size_t n = rays_.size();
+  if (poses.empty()) return;
+  const std::size_t pose_count = poses.size();
+  const std::size_t per_pixel = std::max(pose_count, kSamples);
+  const double focal = 0.5 * (camera_.fx + camera_.fy);
   for (std::size_t i = 0; i < n; ++i) {
     double sum = 0.0;
-    for (std::size_t k = 0; k < kSamples; ++k) {
-      const Vec3 dir = wc.rotation * sample_rays_[i * kSamples + k];
+    for (std::size_t k = 0; k < per_pixel; ++k) {
+      const Pose3& wc = poses[k % pose_count];
+      const Vec3 dir = wc.rotation * sample_rays_[i * kSamples + k % kSamples];
       const Hit hit = cast(wc.position, dir);
       double v = 0.5;
       if (hit.surface >= 0) {
         const double shade = 0.45 + 0.55 * hit.cos_incidence;
         const double falloff = 1.0 / (1.0 + 0.04 * hit.distance * hit.distance);
-        v = albedo(hit.surface, hit.a, hit.b) * shade * (0.6 + 0.4 * falloff);
+        const double footprint =
+            hit.distance / (focal * std::sqrt(std::max(hit.cos_incidence, 0.05)));
+        const double rho = photos_in_use_ ? photo_albedo(hit.surface, hit.a, hit.b, footprint)
+                                          : albedo(hit.surface, hit.a, hit.b);
+        v = rho * shade * (0.6 + 0.4 * falloff);
       }
       sum += v;
     }
-    radiance_[i] = static_cast<float>(sum / static_cast<double>(kSamples) * exposure * 255.0);
+    radiance_[i] = static_cast<float>(sum / static_cast<double>(per_pixel) * exposure * 255.0);
+    if (!vignette_.empty()) radiance_[i] *= vignette_[i];
   }
   // A little blur: separable [1 b 1] / (2 + b) kernels, b from the scenario (0: none).
   if (blur_ > 0.0) {
@@ -238,7 +321,11 @@ void Renderer::render(const Pose3& wc, double exposure, Random& rng, readers::Gr
   out.height = h;
   out.pixels.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const double v = static_cast<double>(radiance_[i]) + rng.gaussian(noise_sigma_);
+    const double signal = static_cast<double>(radiance_[i]);
+    const double sigma = shot_gain_ > 0.0
+                             ? sensor_noise_sigma(noise_sigma_, shot_gain_, signal, gain)
+                             : noise_sigma_;
+    const double v = signal + rng.gaussian(sigma);
     out.pixels[i] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
   }
 }

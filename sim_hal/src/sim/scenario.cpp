@@ -247,7 +247,20 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
     c.exposure_jump_probability =
         m.optional_double("exposure_jump_probability", c.exposure_jump_probability);
     c.image_format = m.optional_string("image_format", c.image_format);
+    c.textures = m.optional_string("textures", c.textures);
+    c.photo_dir = m.optional_string("photo_dir", c.photo_dir);
+    c.exposure_time_s = m.optional_double("exposure_time_s", c.exposure_time_s);
+    c.exposure_samples = read_int(m, "exposure_samples", c.exposure_samples);
+    c.shot_noise_gain = m.optional_double("shot_noise_gain", c.shot_noise_gain);
+    c.vignetting = m.optional_double("vignetting", c.vignetting);
+    c.auto_exposure = m.optional_bool("auto_exposure", c.auto_exposure);
+    c.auto_exposure_target = m.optional_double("auto_exposure_target", c.auto_exposure_target);
+    c.auto_exposure_step_ev = m.optional_double("auto_exposure_step_ev", c.auto_exposure_step_ev);
     m.report_unknown_keys();
+    if (c.textures != "procedural" && c.textures != "photos") {
+      diag.errors.push_back("camera.textures: expected procedural or photos, got \"" + c.textures +
+                            "\"");
+    }
     if (c.mode != "features" && c.mode != "images" && c.mode != "both") {
       diag.errors.push_back("camera.mode: expected features, images or both, got \"" + c.mode +
                             "\"");
@@ -340,6 +353,12 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
   within(cam.blur, 0.0, 100.0, "camera.blur");
   within(cam.exposure_walk, 0.0, 1.0, "camera.exposure_walk");
   within(cam.exposure_jump_probability, 0.0, 1.0, "camera.exposure_jump_probability");
+  within(cam.exposure_time_s, 0.0, 1.0 / cam.rate_hz, "camera.exposure_time_s");
+  within(cam.exposure_samples, 1, 64, "camera.exposure_samples");
+  within(cam.shot_noise_gain, 0.0, 10.0, "camera.shot_noise_gain");
+  within(cam.vignetting, 0.0, 10.0, "camera.vignetting");
+  within(cam.auto_exposure_target, 1.0, 254.0, "camera.auto_exposure_target");
+  within(cam.auto_exposure_step_ev, 0.01, 2.0, "camera.auto_exposure_step_ev");
   within(sc.gyro.noise_density, 0.0, 1.0, "gyro.noise_density");
   within(sc.gyro.bias_walk, 0.0, 1.0, "gyro.bias_walk");
   within(sc.gyro.scale_error, -0.5, 0.5, "gyro.scale_error");

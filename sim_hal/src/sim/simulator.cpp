@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -9,6 +10,7 @@
 #include <numbers>
 
 #include "cleanslam/sim_hal/dataset_writer.hpp"
+#include "cleanslam/sim_hal/sim/frame_exposure.hpp"
 #include "cleanslam/sim_hal/sim/random.hpp"
 #include "cleanslam/sim_hal/sim/renderer.hpp"
 #include "cleanslam/sim_hal/sim/trajectory.hpp"
@@ -232,7 +234,7 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
     std::unique_ptr<Renderer> renderer;
     if (write_images) renderer = std::make_unique<Renderer>(sc);
     readers::GrayImage image;
-    double exposure = 1.0;
+    FrameExposure frame_exposure(c, body_to_camera(c));
     const double dt = 1.0 / c.rate_hz;
     const double phase = 0.013;
     const Pose3 bc = body_to_camera(c);
@@ -280,12 +282,7 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
       last_stamp = stamp;
       if (write_features) writer.add_features(stamp, obs.data(), static_cast<int>(obs.size()));
       if (write_images) {
-        exposure *= std::exp(image_rng.gaussian(c.exposure_walk));
-        if (image_rng.chance(c.exposure_jump_probability)) {
-          exposure *= image_rng.uniform(0.7, 1.3);
-        }
-        exposure = std::clamp(exposure, 0.5, 1.6);
-        renderer->render(wc, exposure, image_rng, image);
+        frame_exposure.render(*renderer, traj, t, image_rng, image);
         s = writer.add_image(stamp, image.view());
         if (!s) return R::failure(s.error());
       }
@@ -301,6 +298,15 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
       if (k % 64 == 0) report(0.5 + 0.5 * t / duration);
     }
     sum.longest_gap_s = std::max(sum.longest_gap_s, duration - last_seen);
+    if (renderer) {
+      sum.images = renderer->textures_note();
+      if (c.auto_exposure) {
+        char range[96];
+        std::snprintf(range, sizeof range, "; auto-exposure gain %.2f..%.2f",
+                      frame_exposure.min_gain(), frame_exposure.max_gain());
+        sum.images += range;
+      }
+    }
     if (sum.frames > 0) {
       sum.mean_features = total / sum.frames;
       sum.fraction_frames_5_to_10 = static_cast<double>(good) / sum.frames;

@@ -115,6 +115,16 @@ struct Scenario {
     double exposure_walk = 0.03;              // relative gain change per frame (random walk)
     double exposure_jump_probability = 0.02;  // per frame: a sudden gain change of up to 30 %
     std::string image_format = "png";         // png | pgm
+    // The camera's effects in images mode; each off at its default.
+    std::string textures = "procedural";  // procedural | photos (photographs from photo_dir)
+    std::string photo_dir = "/usr/lib/python3/dist-packages/skimage/data";
+    double exposure_time_s = 0.0;  // motion blur: the image integrates the motion over this time
+    int exposure_samples = 8;      // poses the exposure is integrated over (exposure_time_s > 0)
+    double shot_noise_gain = 0.0;  // gray levels per photo-electron: variance = gain * signal
+    double vignetting = 0.0;       // 1: the cos^4 law of the pinhole; 0: none
+    bool auto_exposure = false;    // gain steps towards auto_exposure_target, one per frame
+    double auto_exposure_target = 110.0;       // mean gray level
+    double auto_exposure_step_ev = 1.0 / 3.0;  // gain quantum, in stops
   } camera;
 
   struct Gyro {

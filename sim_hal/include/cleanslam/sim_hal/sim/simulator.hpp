@@ -59,6 +59,7 @@ struct SimulationSummary {
   int gyro_samples = 0;
   int encoder_samples = 0;
   int slip_events = 0;
+  std::string images;  // images mode: the textures in use (and why not photographs), gain range
 };
 
 // Simulates the scenario and writes a dataset folder (docs/dataset-format.md) plus
