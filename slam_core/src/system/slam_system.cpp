@@ -156,6 +156,12 @@ void SlamSystem::record(const hal::FeatureObservation& f, lf::UpdateStatus statu
   r.v_px = f.v_px;
 }
 
+bool SlamSystem::position_std_exceeded() const {
+  const hal::PoseEstimate p = ekf_.body_pose_estimate(0);
+  const double limit = config_.pose_lost_position_std_m;
+  return std::max(p.covariance[0], p.covariance[7]) > limit * limit;
+}
+
 hal::PoseEstimate SlamSystem::dead_reckoning_pose(hal::TimeNs t_ns) const {
   hal::PoseEstimate p;
   p.t_ns = t_ns;

@@ -43,8 +43,12 @@ class SlamSystem {
   // the carry folded in as an unknown planar displacement (relocalize.cpp). After image frames
   // the map goes dormant until the Relocalizer finds it in a frame.
   void set_down(hal::TimeNs t_ns);
-  // Relocalizing and no visual update since the set-down (image frames: the map not found again).
+  // Relocalizing and no visual update since the set-down (image frames: the map not found again),
+  // or the position's std. dev. beyond SlamConfig::pose_lost_position_std_m.
   [[nodiscard]] bool pose_lost() const;
+  [[nodiscard]] bool position_std_exceeded() const;
+  // The encoders are silent: the prediction's distance comes from the outage's motion model.
+  [[nodiscard]] bool coasting() const { return dr_.coasting(); }
 
   void add_gyro(const hal::GyroSample& s) { dr_.add_gyro(s); }
   void add_encoder(const hal::EncoderSample& s) { dr_.add_encoder(s); }
