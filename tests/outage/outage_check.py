@@ -141,6 +141,9 @@ def main():
     for s in a.set:
         if s.startswith(THRESHOLD_KEY + "="):
             threshold = float(s.split("=", 1)[1])
+    if threshold is None and not m:
+        sample = run([os.path.join(a.bindir, "cleanslam"), "--print-sample-config"]).stdout
+        m = re.search(r"pose_lost_position_std_m: *([0-9.eE+-]+)", sample)
     if threshold is None:
         threshold = float(m.group(1)) if m else None
     events = re.findall(r"t=([0-9.]+) s: (recovered: )?(gyro silent|encoders silent|camera silent|pose lost)", log)
@@ -162,7 +165,7 @@ def main():
         "nees_per_dof_worst_5s": worst,
         "max_error_outage_m": float(np.max(err[inside])) if np.any(inside) else float("nan"),
         "max_sigma_outage_m": float(np.max(sigma[inside])) if np.any(inside) else float("nan"),
-        "threshold_m": threshold,
+        "threshold_m": threshold, "final_sigma_m": float(sigma[-1]),
         "events": [("%s%s@%s" % ("recovered " if r else "", n, t)) for t, r, n in events],
     }
     print(json.dumps(report))
@@ -189,9 +192,11 @@ def main():
             fails.append("pose lost told while the std. dev. stayed below %.3f m" % threshold)
         if passed and not lost:
             fails.append("std. dev. passed %.3f m but pose lost was never told" % threshold)
+        raised_at_end = len(lost) > len([t for r, n, t in names if n == "pose lost" and r])
+        if raised_at_end != (sigma[-1] > threshold) and abs(sigma[-1] / threshold - 1.0) > 0.05:
+            fails.append("pose lost %s at the end with the std. dev. at %.3f m (threshold %.3f m)"
+                         % ("raised" if raised_at_end else "not raised", sigma[-1], threshold))
         if lost:
-            if not [t for r, n, t in names if n == "pose lost" and r]:
-                fails.append("pose lost never recovered")
             if went and lost[0] < went[0]:
                 fails.append("pose lost told before the sensor was silent")
     for f in fails:

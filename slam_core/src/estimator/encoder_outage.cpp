@@ -1,10 +1,26 @@
 // DeadReckoner during an encoder outage: the distance from a motion model, the heading from the
 // gyro (or a random walk when it is silent too).
+#include <algorithm>
 #include <cmath>
 
 #include "cleanslam/slam_core/dead_reckoner.hpp"
 
 namespace cleanslam::slam_core {
+
+namespace {
+// Variance of the distance travelled over t by a speed error that starts at zero and follows an
+// Ornstein-Uhlenbeck process with time constant tau and stationary std. dev. sv.
+double ou_distance_variance(double t, double tau, double sv) {
+  if (!(tau > 0.0)) {
+    return 0.0;
+  }
+  const double x = t / tau;
+  if (x < 1e-3) {
+    return 2.0 / 3.0 * sv * sv * tau * tau * x * x * x;
+  }
+  return sv * sv * tau * tau * (2.0 * x - 3.0 + 4.0 * std::exp(-x) - std::exp(-2.0 * x));
+}
+}  // namespace
 
 bool DeadReckoner::coasting() const {
   return have_encoder_ && seg_t_ > enc_t_ + hal::from_seconds(config_.max_extrapolation_s);
@@ -20,7 +36,9 @@ void DeadReckoner::coast(hal::TimeNs t_ns) {
   const double distance =
       tau > 0.0 ? wheel_speed_ * tau * (std::exp(-a / tau) - std::exp(-b / tau)) : 0.0;
   const double sv = config_.outage_speed_std_m_s;
-  const double distance_var = 2.0 * sv * sv * tau * dt;
+  // The EKF takes increments as independent: each gets the growth of the whole outage's variance.
+  const double distance_var =
+      std::max(0.0, ou_distance_variance(b, tau, sv) - ou_distance_variance(a, tau, sv));
   double tha = 0.0;
   double thb = 0.0;
   double livea = 0.0;

@@ -45,13 +45,14 @@ struct DeadReckoningConfig {
   double max_extrapolation_s = 0.2;
   // Encoders silent for longer (encoder outage): the distance comes from a motion model, the
   // heading from the gyro. The speed is an Ornstein-Uhlenbeck process: its mean, the last wheel
-  // speed, decays to zero with outage_speed_time_constant_s (tau); it may have kept going or
-  // stopped, std. dev. outage_speed_std_m_s (sigma_v) about the mean, so the distance's variance
-  // grows by 2 sigma_v^2 tau per second. The gyro silent too: the heading's rate has std. dev.
-  // outage_yaw_rate_std_rad_s (zero mean). The first encoder sample after the outage starts the
+  // speed, decays to zero with outage_speed_time_constant_s (tau); its error, zero at the start,
+  // has the stationary std. dev. outage_speed_std_m_s (sigma_v), so the distance's variance is
+  // sigma_v^2 tau^2 (2x - 3 + 4 e^-x - e^-2x) after x = t / tau (2 sigma_v^2 tau per second in the
+  // long run). The gyro silent too: the heading walks with rate std. dev.
+  // outage_yaw_rate_std_rad_s over tau. The first encoder sample after the outage starts the
   // wheels' count again: the outage's motion is the model's.
-  double outage_speed_time_constant_s = 2.0;
-  double outage_speed_std_m_s = 0.3;
+  double outage_speed_time_constant_s = 10.0;
+  double outage_speed_std_m_s = 0.1;
   double outage_yaw_rate_std_rad_s = 1.0;
   // Errors that persist across increments (the within-increment terms above treat them as
   // independent per increment), inflated by their correlation time or length: the gyro bias
