@@ -384,8 +384,11 @@ OdometryIncrement DeadReckoner::take_increment(hal::TimeNs t_ns) {
       pending_yaw_ = target_yaw;
       seg_t_ = target;
     }
-    if (t_ns > seg_t_ && t_ns > enc_t_ + reach) {
-      coast(t_ns);
+    // An outage when the gyro has gone on past the encoders (a frame stamped ahead of both is
+    // extrapolation's, not the motion model's).
+    const hal::TimeNs coast_to = std::min(t_ns, gyro_t_);
+    if (have_gyro_ && coast_to > seg_t_ && coast_to > enc_t_ + reach) {
+      coast(coast_to);
     }
   }
   const double dt_s = have_take_ ? seconds(t_ns - last_take_t_) : 0.0;
