@@ -12,7 +12,7 @@ namespace {
 
 constexpr std::array<std::pair<std::uint32_t, const char*>, 5> kNames{{
     {hal::kGyroSilent, "gyro silent (heading from encoders)"},
-    {hal::kEncodersSilent, "encoders silent (no prediction)"},
+    {hal::kEncodersSilent, "encoders silent (distance from a motion model)"},
     {hal::kCameraSilent, "camera silent (dead reckoning only)"},
     {hal::kLifted, "lifted"},
     {hal::kPoseLost, "pose lost"},

@@ -278,6 +278,16 @@ void Loop::ingest_frame(const hal::CameraFrame& f, hal::TimeNs now) {
 }
 
 void Loop::run_dead_reckoning() {
+  if (!odometry_pending_ && (health_ & hal::kEncodersSilent) != 0 && !lifted_ &&
+      now_ns_ >= next_publish_ns_) {
+    // Encoders silent: the estimate goes on from the gyro and the motion model, predicted at
+    // each estimate published.
+    const bool gyro_ok = (health_ & hal::kGyroSilent) == 0;
+    estimator_.predict(gyro_ok ? last_gyro_ns_ : now_ns_, gyro_ok);
+    ++stats_.predictions;
+    pass_fusion_records();
+    return;
+  }
   if (!odometry_pending_) {
     return;
   }

@@ -57,7 +57,7 @@ loop:
   frame_rate_hz: 2           # frames are taken at most this often; newer ones replace waiting ones, [0.1, 30]
   publish_rate_hz: 20        # pose publication, [1, 200]
   gyro_timeout_s: 0.1        # gyro silent beyond this: heading from the encoders, inflated noise
-  encoder_timeout_s: 0.25    # encoders silent beyond this: no prediction, flagged
+  encoder_timeout_s: 0.25    # encoders silent beyond this: flagged, motion model
   camera_timeout_s: 3        # camera silent beyond this: dead reckoning only, flagged
   max_time_skew_s: 1         # a sample stamped further than this from the loop's clock is a time jump
   frame_work_budget: 64      # frame pipeline work units per loop iteration (an EKF update step: 32768 instructions each), >= 1

@@ -45,7 +45,7 @@ DeadReckoner::DeadReckoner(const hal::Calibration& calibration, const DeadReckon
 }
 
 bool DeadReckoner::heading_held() const {
-  return config_.hold_heading_when_still && have_encoder_ &&
+  return config_.hold_heading_when_still && have_encoder_ && !coasting() &&
          seconds(enc_t_ - last_wheel_motion_t_) >= config_.standstill_window_s;
 }
 
@@ -131,11 +131,13 @@ bool DeadReckoner::add_gyro(const hal::GyroSample& s) {
 }
 
 bool DeadReckoner::standing_still() const {
-  return have_encoder_ && seconds(enc_t_ - last_motion_t_) >= config_.standstill_window_s;
+  return have_encoder_ && !coasting() &&
+         seconds(enc_t_ - last_motion_t_) >= config_.standstill_window_s;
 }
 
 void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt, bool gyro,
-                        double wheels, double gyro_weight, double drift_weight) {
+                        double wheels, double gyro_weight, double drift_weight,
+                        double distance_var) {
   Increment& in = inc_;
   const double mid = in.yaw + 0.5 * dyaw;
   const double c = std::cos(mid);
@@ -152,8 +154,9 @@ void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt,
   const Eigen::Vector3d g_dist(c, s, 0.0);
   const double k = calibration_.wheels.distance_noise;
   const double scale_length_m = config_.scale_in_state ? 0.0 : config_.distance_scale_correlation_m;
-  in.cov = F * in.cov * F.transpose() + yaw_var * g_yaw * g_yaw.transpose() +
-           k * k * scale_length_m * std::abs(distance) * g_dist * g_dist.transpose();
+  in.cov =
+      F * in.cov * F.transpose() + yaw_var * g_yaw * g_yaw.transpose() +
+      (k * k * scale_length_m * std::abs(distance) + distance_var) * g_dist * g_dist.transpose();
   in.d_scale = F * in.d_scale + distance * Eigen::Vector3d(c, s, 0.0);
   in.d_bias = F * in.d_bias;
   in.d_gyro_scale = F * in.d_gyro_scale;
@@ -180,6 +183,26 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     return false;
   }
   const hal::WheelCalibration& w = calibration_.wheels;
+  if (coasting()) {
+    // After an outage: the takes covered it with the motion model up to seg_t_; the count
+    // starts again here.
+    ++counters_.encoder_outages;
+    if (seg_t_ < s.t_ns) {
+      coast(s.t_ns);
+    }
+    enc_t_ = s.t_ns;
+    enc_left_ = s.left_ticks;
+    enc_right_ = s.right_ticks;
+    pending_distance_ = 0.0;
+    pending_yaw_ = 0.0;
+    pending_fused_correction_ = 0.0;
+    wheel_speed_ = 0.0;
+    enc_yaw_rate_ = 0.0;
+    last_motion_t_ = s.t_ns;
+    last_wheel_motion_t_ = s.t_ns;
+    ++counters_.encoder_accepted;
+    return true;
+  }
   if (!have_encoder_) {
     have_encoder_ = true;
     enc_t_ = s.t_ns;
@@ -334,7 +357,7 @@ OdometryIncrement DeadReckoner::take_increment(hal::TimeNs t_ns) {
   if (have_encoder_) {
     const auto reach = hal::from_seconds(config_.max_extrapolation_s);
     const hal::TimeNs target = std::clamp(t_ns, enc_t_ - reach, enc_t_ + reach);
-    if (target != seg_t_) {
+    if (target != seg_t_ && !coasting()) {
       const double ahead = seconds(target - enc_t_);
       const double target_distance = wheel_speed_ * ahead;
       const double target_yaw = enc_yaw_rate_ * ahead;
@@ -360,6 +383,12 @@ OdometryIncrement DeadReckoner::take_increment(hal::TimeNs t_ns) {
       pending_distance_ = target_distance;
       pending_yaw_ = target_yaw;
       seg_t_ = target;
+    }
+    // An outage when the gyro has gone on past the encoders (a frame stamped ahead of both is
+    // extrapolation's, not the motion model's).
+    const hal::TimeNs coast_to = std::min(t_ns, gyro_t_);
+    if (have_gyro_ && coast_to > seg_t_ && coast_to > enc_t_ + reach) {
+      coast(coast_to);
     }
   }
   const double dt_s = have_take_ ? seconds(t_ns - last_take_t_) : 0.0;

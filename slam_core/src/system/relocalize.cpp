@@ -93,8 +93,9 @@ void SlamSystem::relocate(const Vector6d& camera_pose) {
 
 bool SlamSystem::pose_lost() const {
   // Image frames: updates against landmarks made since the set-down do not find the map.
-  return relocalizing_ &&
-         (map_.dormant_count() > 0 || ekf_.counters().updates_applied == updates_at_set_down_);
+  return (relocalizing_ &&
+          (map_.dormant_count() > 0 || ekf_.counters().updates_applied == updates_at_set_down_)) ||
+         position_std_exceeded();
 }
 
 }  // namespace cleanslam::slam_core

@@ -68,6 +68,7 @@ void SlamSystem::reset() {
   fusing_ = false;
   record_count_ = 0;
   relocalizing_ = false;
+  position_std_exceeded_ = false;
 }
 
 void SlamSystem::predict(hal::TimeNs t_ns) {
@@ -82,6 +83,7 @@ void SlamSystem::predict(hal::TimeNs t_ns) {
     record_mismatch(t_ns);
   }
   predicted_to_ns_ = t_ns;
+  check_position_std();
 }
 
 void SlamSystem::record_mismatch(hal::TimeNs t_ns) {
@@ -128,6 +130,9 @@ bool SlamSystem::step_frame(int& budget) {
   }
   if (!image_mode_) {
     frame_done_ = step_features(budget);
+    if (frame_done_) {
+      check_position_std();
+    }
     return frame_done_;
   }
   budget = 0;  // one bounded pipeline step per call
@@ -138,6 +143,7 @@ bool SlamSystem::step_frame(int& budget) {
     return false;
   }
   collect_image_records();
+  check_position_std();
   frame_done_ = true;
   return true;
 }
@@ -154,6 +160,18 @@ void SlamSystem::record(const hal::FeatureObservation& f, lf::UpdateStatus statu
   r.status = status;
   r.u_px = f.u_px;
   r.v_px = f.v_px;
+}
+
+void SlamSystem::check_position_std() {
+  const hal::PoseEstimate p = ekf_.body_pose_estimate(0);
+  const double var = std::max(p.covariance[0], p.covariance[7]);
+  const double limit = config_.pose_lost_position_std_m;
+  const double found = kPoseFoundStdFraction * limit;
+  if (var > limit * limit) {
+    position_std_exceeded_ = true;
+  } else if (var < found * found) {
+    position_std_exceeded_ = false;
+  }
 }
 
 hal::PoseEstimate SlamSystem::dead_reckoning_pose(hal::TimeNs t_ns) const {

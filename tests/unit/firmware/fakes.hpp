@@ -99,7 +99,9 @@ class FakeEstimator final : public firmware::Estimator {
   int remaining = 0;
   std::vector<hal::log::UpdateRecord> records;
   bool still = false;
+  bool lost = false;
 
+  [[nodiscard]] bool pose_lost() const override { return lost; }
   void reset(hal::TimeNs /*t*/) override {
     ++resets;
     records.reserve(hal::kMaxFeaturesPerFrame);

@@ -80,7 +80,7 @@ TEST(StatusIndicator, HealthMapsToPatterns) {
   EXPECT_EQ(led_pattern(hal::kHealthOk, true), LedPattern::kDegraded);
   EXPECT_EQ(led_pattern(hal::kGyroSilent, false), LedPattern::kDegraded);
   EXPECT_EQ(led_pattern(hal::kCameraSilent | hal::kStandingStill, false), LedPattern::kDegraded);
-  EXPECT_EQ(led_pattern(hal::kEncodersSilent, false), LedPattern::kFault);
+  EXPECT_EQ(led_pattern(hal::kEncodersSilent, false), LedPattern::kDegraded);
   EXPECT_EQ(led_pattern(hal::kLifted | hal::kPoseLost, false), LedPattern::kFault);
   EXPECT_EQ(led_pattern(hal::kPoseLost | hal::kGyroSilent, true), LedPattern::kFault);
 }
@@ -99,7 +99,8 @@ TEST(StatusIndicator, FollowsTheLoopHealthOnAFakeLine) {
 
   test::ScriptedSource src;
   const hal::TimeNs kS = hal::kNsPerSecond;
-  // 0-2 s everything; from 2 s no camera (silent after 3 s more); from 10 s no encoders.
+  // 0-2 s everything; from 2 s no camera (silent after 3 s more); from 10 s no encoders and the
+  // pose lost.
   src.drive(0, 12 * kS, 2.0, [&](hal::SensorEvent::Kind k, hal::TimeNs t) {
     return (k == hal::SensorEvent::Kind::kFrame && t >= 2 * kS) ||
            (k == hal::SensorEvent::Kind::kEncoder && t >= 10 * kS);
@@ -119,6 +120,7 @@ TEST(StatusIndicator, FollowsTheLoopHealthOnAFakeLine) {
       {1 * kS, 4900 * kMs}, {5500 * kMs, 9500 * kMs}, {10500 * kMs, 12 * kS}};
   int last = -1;
   for (hal::TimeNs t = 10 * kMs; t < 12 * kS; t += 10 * kMs) {
+    est.lost = t >= 10 * kS;
     loop.iterate(t);
     indicator.run(loop, t);
     EXPECT_TRUE(indicator.next_due_ns() < 0 || indicator.next_due_ns() > t) << t;
@@ -137,7 +139,8 @@ TEST(StatusIndicator, FollowsTheLoopHealthOnAFakeLine) {
   EXPECT_NEAR(windows[1].high, windows[1].low, 10);
   // Fault: 4 Hz: 1.5 s give 12 changes.
   EXPECT_NEAR(windows[2].changes, 12, 1);
-  EXPECT_NE(loop.health() & hal::kEncodersSilent, 0U);
+  EXPECT_EQ(loop.health() & (hal::kEncodersSilent | hal::kPoseLost),
+            hal::kEncodersSilent | hal::kPoseLost);
   led.reset();
   EXPECT_EQ(line.value, 0);  // released dark
 }

@@ -282,6 +282,8 @@ struct DeadReckonerRun {
   cs::DeadReckoner* dr = nullptr;
   std::size_t allocations = 0;
   double distance = 0.0;
+  int encoders_silent_from_ms = -1;  // encoder outage [from, to)
+  int encoders_silent_to_ms = -1;
 
   void operator()() {
     Eigen::internal::set_is_malloc_allowed(false);
@@ -298,7 +300,9 @@ struct DeadReckonerRun {
         e.t_ns = t;
         e.left_ticks = ticks;
         e.right_ticks = ticks;
-        dr->add_encoder(e);
+        if (ms < encoders_silent_from_ms || ms >= encoders_silent_to_ms) {
+          dr->add_encoder(e);
+        }
         ticks = static_cast<std::int32_t>(static_cast<std::uint32_t>(ticks) + 40U);
       }
       if (ms % 700 == 0) {
@@ -321,6 +325,18 @@ TEST(EstimatorAllocation, DeadReckonerLongRunAllocatesNothing) {
   std::printf("dead reckoner run: stack high-water mark %zu bytes of 256 KiB\n", stack);
   EXPECT_EQ(run.allocations, 0U);
   EXPECT_NEAR(run.distance, 59.503 * 0.2, 1e-3);  // up to the last take
+}
+
+TEST(EstimatorAllocation, DeadReckonerThroughAnEncoderOutageAllocatesNothing) {
+  const hal::Calibration calibration;
+  cs::DeadReckoner dr(calibration, cs::DeadReckoningConfig{});
+  DeadReckonerRun run;
+  run.dr = &dr;
+  run.encoders_silent_from_ms = 20000;
+  run.encoders_silent_to_ms = 40000;
+  run_with_small_stack(run);
+  EXPECT_EQ(run.allocations, 0U);
+  EXPECT_EQ(dr.counters().encoder_outages, 1U);
 }
 
 TEST(EstimatorAllocation, DeadReckonerWithWheelYawFusionAllocatesNothing) {

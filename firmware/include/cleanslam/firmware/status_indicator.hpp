@@ -7,9 +7,9 @@
 
 namespace cleanslam::firmware {
 
-// The loop's health (hal::HealthFlag) as an LED pattern: fault when the pose is not known (no
-// prediction: encoders silent; lifted; relocalizing), degraded when it rests on fewer sensors
-// than planned (gyro or camera silent, few landmarks, a configured device missing), else OK.
+// The loop's health (hal::HealthFlag) as an LED pattern: fault when the pose is not known (lifted,
+// relocalizing, its std. dev. beyond the threshold), degraded when it rests on fewer sensors than
+// planned (gyro, encoders or camera silent, few landmarks, a configured device missing), else OK.
 [[nodiscard]] drivers::LedPattern led_pattern(std::uint32_t health, bool devices_missing);
 
 // Drives the status LED from the live runner after each loop iteration; never blocks (one GPIO

@@ -11,11 +11,11 @@ namespace cleanslam::hal {
 enum HealthFlag : std::uint32_t {
   kHealthOk = 0,
   kGyroSilent = 1U << 0,      // heading from encoders alone, inflated noise
-  kEncodersSilent = 1U << 1,  // no prediction
+  kEncodersSilent = 1U << 1,  // distance from a motion model, heading from the gyro
   kCameraSilent = 1U << 2,    // dead reckoning only
   kStandingStill = 1U << 3,   // no visual update (Section 2.4)
   kLifted = 1U << 4,          // wheel-drop switch: pose lost
-  kPoseLost = 1U << 5,
+  kPoseLost = 1U << 5,        // relocalizing, or the position std. dev. beyond its threshold
   kFewLandmarks = 1U << 6,
   kInputRejected = 1U << 7,  // some input was rejected since the last estimate
 };

@@ -43,6 +43,17 @@ struct DeadReckoningConfig {
   // take_increment() extrapolates the last wheel speed at most this far past the last encoder
   // sample (and no further back than this before it).
   double max_extrapolation_s = 0.2;
+  // Encoders silent for longer while the gyro goes on (encoder outage): the distance comes from a
+  // motion model, the heading from the gyro. The speed is an Ornstein-Uhlenbeck process: its mean,
+  // the last wheel speed, decays to zero with outage_speed_time_constant_s (tau); its error, zero
+  // at the start, has the stationary std. dev. outage_speed_std_m_s (sigma_v), so the distance's
+  // variance is sigma_v^2 tau^2 (2x - 3 + 4 e^-x - e^-2x) after x = t / tau (2 sigma_v^2 tau per
+  // second in the long run). Where the gyro's record does not cover an increment, the heading walks
+  // with rate std. dev. outage_yaw_rate_std_rad_s over tau. The first encoder sample after the
+  // outage starts the wheels' count again: the outage's motion is the model's.
+  double outage_speed_time_constant_s = 10.0;
+  double outage_speed_std_m_s = 0.1;
+  double outage_yaw_rate_std_rad_s = 1.0;
   // Errors that persist across increments (the within-increment terms above treat them as
   // independent per increment), inflated by their correlation time or length: the gyro bias
   // (std. dev. gyro.bias_instability) adds bias_instability^2 * T * dt to the heading variance,
@@ -91,6 +102,7 @@ struct DeadReckonerCounters {
   std::uint64_t encoder_implausible = 0;
   std::uint64_t steps_without_gyro = 0;  // encoder intervals whose heading came from the wheels
   std::uint64_t increments_out_of_order = 0;
+  std::uint64_t encoder_outages = 0;  // encoder samples after an outage (the count restarted)
 };
 
 class DeadReckoner {
@@ -109,6 +121,9 @@ class DeadReckoner {
   [[nodiscard]] bool standing_still() const;
   [[nodiscard]] double gyro_bias() const { return bias_; }
   [[nodiscard]] bool gyro_silent(hal::TimeNs t_ns) const;
+  // A take went past the last encoder sample by more than max_extrapolation_s: the increments
+  // come from the outage's motion model until the next encoder sample.
+  [[nodiscard]] bool coasting() const;
 
   // Planar body pose integrated at the encoder samples since start.
   [[nodiscard]] double x() const { return x_; }
@@ -147,8 +162,11 @@ class DeadReckoner {
   [[nodiscard]] bool heading_held() const;
   // gyro_weight: d dyaw / d (the gyro's reading), 1 without wheel_yaw fusion; drift_weight:
   // d dyaw / d c (drift_in_state).
+  // distance_var: variance along the track (the outage's motion model).
   void step(double distance, double dyaw, double yaw_var, double dt, bool gyro, double wheels,
-            double gyro_weight, double drift_weight = 0.0);
+            double gyro_weight, double drift_weight = 0.0, double distance_var = 0.0);
+  // The increment from seg_t_ to t_ns by the outage's motion model (encoder_outage.cpp).
+  void coast(hal::TimeNs t_ns);
   OdometryIncrement camera_increment(const Increment& inc, double dt_s) const;
 
   hal::Calibration calibration_;

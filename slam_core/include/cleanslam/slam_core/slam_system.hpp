@@ -43,8 +43,14 @@ class SlamSystem {
   // the carry folded in as an unknown planar displacement (relocalize.cpp). After image frames
   // the map goes dormant until the Relocalizer finds it in a frame.
   void set_down(hal::TimeNs t_ns);
-  // Relocalizing and no visual update since the set-down (image frames: the map not found again).
+  // Relocalizing and no visual update since the set-down (image frames: the map not found again),
+  // or the position's std. dev. beyond SlamConfig::pose_lost_position_std_m (from the prediction
+  // or update that passed it until one brings it below kPoseFoundStdFraction of it).
   [[nodiscard]] bool pose_lost() const;
+  static constexpr double kPoseFoundStdFraction = 0.8;
+  [[nodiscard]] bool position_std_exceeded() const { return position_std_exceeded_; }
+  // The encoders are silent: the prediction's distance comes from the outage's motion model.
+  [[nodiscard]] bool coasting() const { return dr_.coasting(); }
 
   void add_gyro(const hal::GyroSample& s) { dr_.add_gyro(s); }
   void add_encoder(const hal::EncoderSample& s) { dr_.add_encoder(s); }
@@ -81,6 +87,7 @@ class SlamSystem {
 
  private:
   void share_wheel_state();
+  void check_position_std();
   void record_mismatch(hal::TimeNs t_ns);
   void record(const hal::FeatureObservation& f, hal::log::UpdateStatus status, int slot);
   // Features path (feature_frame.cpp).
@@ -106,6 +113,7 @@ class SlamSystem {
   MappedEstimator mapped_;
   hal::TimeNs camera_offset_ns_ = 0;
   hal::TimeNs predicted_to_ns_ = -1;
+  bool position_std_exceeded_ = false;
 
   hal::CameraFrame frame_;
   bool image_mode_ = false;
