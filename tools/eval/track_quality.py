@@ -40,7 +40,7 @@ returns within --baseline-fb px (default 1); then, when fewer than --refill-belo
 (default N), new Shi-Tomasi corners (quality level 0.01) are added up to N tracks, at least
 --min-distance px (default 20) from every track and from each other, at least 17 px from the
 border and in the top --new-rows fraction of the image (default 0.7): the front end's rules for
-new landmarks (target_in_view, exclusion_px, patch margin,
+new landmarks (min_in_view / target_in_view, exclusion_px, patch margin,
 new_landmark_max_row_fraction). --baseline-out FILE writes its tracks as features.csv.
 
 --why-ended: for every track that ended mid-image, how its appearance had changed, as the

@@ -233,27 +233,16 @@ void FramePipeline::do_track() {
   const int end = std::min(track_count_, cursor_ + config_.tracks_per_step);
   for (; cursor_ < end; ++cursor_) {
     TrackRecord& t = at(tracks_, cursor_);
+    const LandmarkPatch* patch = patches_.get(t.slot);
+    PatchTemplate tmpl;
+    if (patch == nullptr ||
+        !make_template(*patch, patch_scale(*patch, t), config_.tracker.min_template_std, tmpl)) {
+      t.result.failure = TrackFailure::kNoTemplate;
+      continue;
+    }
     const bool reacquire = book_.frames_since_match(t.slot) > config_.reacquire_after_frames;
-    // The first sighting's patch while it matches; the latest where it no longer does.
-    t.result.failure = TrackFailure::kNoTemplate;
-    const LandmarkPatch* first = patches_.get(t.slot);
-    if (first != nullptr && make_template(*first, patch_scale(*first, t),
-                                          config_.tracker.min_template_std, template_)) {
-      t.result = tracker_.track(image_, template_, t.region, detector_.corners(),
-                                detector_.corner_count(), reacquire);
-    }
-    const LandmarkPatch* latest = patches_.latest(t.slot);
-    if (!t.result.found && t.result.failure != TrackFailure::kNoRegion && latest != nullptr &&
-        make_template(*latest, patch_scale(*latest, t), config_.tracker.min_template_std,
-                      template_)) {
-      const TrackResult r = tracker_.track(image_, template_, t.region, detector_.corners(),
-                                           detector_.corner_count(), reacquire);
-      if (r.found) {
-        t.result = r;
-        t.by_latest = true;
-        ++report_.by_latest;
-      }
-    }
+    t.result = tracker_.track(image_, tmpl, t.region, detector_.corners(), detector_.corner_count(),
+                              reacquire);
     if (t.result.found) {
       ++report_.tracked;
       at(obs_, obs_count_) = {t.slot, t.result.u_px, t.result.v_px};
@@ -307,19 +296,6 @@ void FramePipeline::do_associate(LandmarkEstimator& est) {
     report_.innovation_rejected = true;
     return;
   }
-  // Each match's normalized innovation squared against its own prediction (its 2x2 block of S).
-  const int n2 = 2 * m;
-  for (int i = 0; i < m; ++i) {
-    const std::size_t r = static_cast<std::size_t>(2 * i);
-    const double a = S_[r * n2 + r];
-    const double b = S_[r * n2 + r + 1];
-    const double d = S_[(r + 1) * n2 + r + 1];
-    const double det = a * d - b * b;
-    const double x = nu_[r];
-    const double y = nu_[r + 1];
-    at(tracks_, at(obs_track_, i)).nis =
-        det > 0.0 ? (d * x * x - 2.0 * b * x * y + a * y * y) / det : 0.0;
-  }
   report_.jcbb = jcbb_.solve(nu_.data(), S_.data(), m, inlier_.data());
   report_.inliers = report_.jcbb.inlier_count;
   report_.outliers = m - report_.jcbb.inlier_count;
@@ -366,24 +342,6 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
     at(matched_now_, t.slot) = matched;
     if ((matched || t.center_inside) && book_.record(t.slot, matched)) {
       remove_landmark(est, t.slot);
-      continue;
-    }
-    if (!matched) {
-      continue;
-    }
-    // A corner whose matches keep straying from their predictions (formed where a near edge
-    // crosses the background: it slides as the camera moves) is no point of the scene.
-    if (book_.record_residual(t.slot, t.nis)) {
-      remove_landmark(est, t.slot);
-      ++report_.inconsistent;
-      continue;
-    }
-    // The latest patch follows the landmark where it no longer matches closely, from a match that
-    // agrees with its prediction.
-    if (t.result.ncc < config_.refresh_below_ncc && t.nis <= config_.refresh_max_nis &&
-        patches_.refresh(t.slot, image_, t.result.u_px, t.result.v_px, t.predicted_depth_m, camera_,
-                         camera_known_)) {
-      ++report_.refreshed;
     }
   }
   for (int slot = 0; slot < hal::kMaxLandmarks; ++slot) {
@@ -392,7 +350,7 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
     }
   }
   // Landmarks matched in this frame (inliers) count as in view; new ones are wanted when there
-  // are fewer than target_in_view, away from every landmark in view.
+  // are fewer than min_in_view, up to target_in_view, away from every landmark in view.
   int matched = 0;
   for (int i = 0; i < track_count_; ++i) {
     const TrackRecord& t = at(tracks_, i);
@@ -406,7 +364,7 @@ void FramePipeline::do_manage(LandmarkEstimator& est) {
   new_corner_count_ = 0;
   new_wanted_ = 0;
   const LandmarkBookConfig& bc = book_.config();
-  if (matched < bc.target_in_view) {
+  if (matched < bc.min_in_view) {
     new_wanted_ = std::min(bc.target_in_view - matched, hal::kMaxCorners);
     // Twice as many candidates: those whose patch is an edge are passed over.
     new_corner_count_ = select_new_corners(

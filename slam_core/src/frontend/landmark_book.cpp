@@ -1,7 +1,6 @@
 #include "cleanslam/slam_core/frontend/landmark_book.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <cstddef>
 
 namespace cleanslam::slam_core::frontend {
@@ -25,7 +24,6 @@ void LandmarkBook::activate(int slot) {
   }
   failures_[s] = 0;
   matches_[s] = 0;
-  mean_nis_[s] = 0.0;
   last_match_[s] = frame_;
 }
 
@@ -73,21 +71,6 @@ bool LandmarkBook::record(int slot, bool matched) {
     ++failures_[s];
   }
   return failures_[s] >= config_.max_consecutive_failures;
-}
-
-bool LandmarkBook::record_residual(int slot, double nis) {
-  if (!active(slot)) {
-    return false;
-  }
-  const auto s = static_cast<std::size_t>(slot);
-  const double x = std::isfinite(nis) ? nis : config_.max_mean_nis;
-  const double w = std::clamp(config_.residual_weight, 0.0, 1.0);
-  mean_nis_[s] = matches_[s] <= 1 ? x : (1.0 - w) * mean_nis_[s] + w * x;
-  return matches_[s] >= config_.min_matches_to_keep && mean_nis_[s] > config_.max_mean_nis;
-}
-
-double LandmarkBook::mean_nis(int slot) const {
-  return in_range(slot) ? mean_nis_[static_cast<std::size_t>(slot)] : 0.0;
 }
 
 int LandmarkBook::failures(int slot) const {

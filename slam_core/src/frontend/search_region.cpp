@@ -28,8 +28,8 @@ SearchRegion make_search_region(const PixelPrediction& prediction, int width, in
   }
   region.S_inv << d / det, -b / det, -b / det, a / det;
   // Bounding box of the ellipse: half-widths sqrt(gate * S_xx), sqrt(gate * S_yy).
-  const double hx = std::sqrt(config.gate_chi2 * a);
-  const double hy = std::sqrt(config.gate_chi2 * d);
+  const double hx = std::min(std::sqrt(config.gate_chi2 * a), config.max_half_extent_px);
+  const double hy = std::min(std::sqrt(config.gate_chi2 * d), config.max_half_extent_px);
   const double lo = config.margin_px;
   const double hi_x = width - 1 - config.margin_px;
   const double hi_y = height - 1 - config.margin_px;

@@ -389,21 +389,21 @@ TEST(ParameterConfig, TheFirmwaresKeysDefaultsAreTheListedOnes) {
 TEST(ParameterConfig, FrontEndKeysReachThePipelineAndUnknownNestedKeysAreErrors) {
   const ConfigResult r = parse_config(
       "frontend:\n  harris:\n    k: 0.05\n    max_corner: 3\n  tracker:\n    min_ncc: 0.7\n"
-      "  landmark_book:\n    target_in_view: 3\n",
-      "f.yaml", {"frontend.search_region.gate_chi2=25"});
+      "  landmark_book:\n    min_in_view: 3\n",
+      "f.yaml", {"frontend.search_region.max_half_extent_px=25"});
   ASSERT_EQ(r.errors.size(), 1U) << joined(r.errors);
   EXPECT_NE(r.errors[0].find("f.yaml:4"), std::string::npos) << r.errors[0];
   EXPECT_NE(r.errors[0].find("frontend.harris.max_corner"), std::string::npos) << r.errors[0];
   const ConfigResult good = parse_config(
       "frontend:\n  harris:\n    k: 0.05\n  tracker:\n    min_ncc: 0.7\n"
-      "  landmark_book:\n    target_in_view: 3\n",
-      "f.yaml", {"frontend.search_region.gate_chi2=25"});
+      "  landmark_book:\n    min_in_view: 3\n",
+      "f.yaml", {"frontend.search_region.max_half_extent_px=25"});
   ASSERT_TRUE(good.ok()) << joined(good.errors);
   const auto& fe = good.config.slam.frontend;
   EXPECT_EQ(fe.harris.k, 0.05F);
   EXPECT_EQ(fe.tracker.min_ncc, 0.7F);
-  EXPECT_EQ(fe.book.target_in_view, 3);
-  EXPECT_EQ(fe.region.gate_chi2, 25.0);
+  EXPECT_EQ(fe.book.min_in_view, 3);
+  EXPECT_EQ(fe.region.max_half_extent_px, 25.0);
 }
 
 }  // namespace

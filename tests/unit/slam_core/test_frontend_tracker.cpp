@@ -149,39 +149,6 @@ TEST(FrontendPatch, StoreKeepsOnePatchPerSlot) {
   EXPECT_EQ(store.get(3), nullptr);
 }
 
-TEST(FrontendPatch, RefreshReplacesTheLatestPatchAndKeepsTheFirst) {
-  const GrayImage img = render(Warp{});
-  fe::PatchStore store;
-  const Eigen::Vector3d camera(1.0, 2.0, 0.1);
-  // Nothing to refresh without a first sighting.
-  EXPECT_FALSE(store.refresh(4, img.view(), 120.0, 100.0, 3.0, camera, true));
-  ASSERT_TRUE(store.capture(4, img.view(), 100.0, 100.0, 2.0));
-  store.set_anchor(4, Eigen::Vector3d(0.0, 0.0, 0.1));
-  EXPECT_EQ(store.latest(4), nullptr);
-  const fe::LandmarkPatch first = *store.get(4);
-  EXPECT_TRUE(store.refresh(4, img.view(), 120.5, 100.25, 3.0, camera, true));
-  ASSERT_NE(store.latest(4), nullptr);
-  EXPECT_EQ(store.get(4)->pixels, first.pixels);
-  EXPECT_DOUBLE_EQ(store.get(4)->anchor[0], 0.0);
-  fe::LandmarkPatch expected;
-  ASSERT_TRUE(fe::capture_patch(img.view(), 120.5, 100.25, 3.0, expected));
-  EXPECT_EQ(store.latest(4)->pixels, expected.pixels);
-  EXPECT_DOUBLE_EQ(store.latest(4)->first_depth_m, 3.0);
-  EXPECT_TRUE(store.latest(4)->has_anchor);
-  EXPECT_DOUBLE_EQ(store.latest(4)->anchor[1], 2.0);
-  // A window that does not fit changes nothing.
-  EXPECT_FALSE(store.refresh(4, img.view(), 3.0, 100.0, 3.0, camera, true));
-  EXPECT_EQ(store.latest(4)->pixels, expected.pixels);
-  store.clear(4);
-  EXPECT_EQ(store.latest(4), nullptr);
-  // A new first sighting in the slot starts without a latest patch.
-  ASSERT_TRUE(store.capture(4, img.view(), 100.0, 100.0, 2.0));
-  EXPECT_TRUE(store.refresh(4, img.view(), 110.0, 100.0, 3.0, camera, false));
-  EXPECT_FALSE(store.latest(4)->has_anchor);
-  ASSERT_TRUE(store.capture(4, img.view(), 100.0, 100.0, 2.0));
-  EXPECT_EQ(store.latest(4), nullptr);
-}
-
 TEST(FrontendTracker, RecoversKnownSubPixelShifts) {
   for (const auto& s : {std::pair{3.3, -2.7}, std::pair{-6.6, 4.25}, std::pair{0.5, 0.5}}) {
     Warp w;

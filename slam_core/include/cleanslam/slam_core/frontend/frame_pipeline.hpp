@@ -39,11 +39,6 @@ struct FramePipelineConfig {
   // patches deform with every move) and its junction with walls and furniture makes corners that
   // slide along it (occlusion boundaries). 1: the whole image.
   double new_landmark_max_row_fraction = 0.7;
-  // A landmark matched (an inlier) with an NCC below this gets its latest patch refreshed at the
-  // match (PatchStore::refresh), when the match's normalized innovation squared against its own
-  // prediction is at most refresh_max_nis (the drift guard; 5.99: 95 %, 2 dof).
-  float refresh_below_ncc = 0.95F;
-  double refresh_max_nis = 5.99;
   // A landmark not matched for more frames than this is reacquired (Tracker::track): the pose
   // may have drifted more than its covariance says, and a look-alike near the prediction must
   // not close the loop.
@@ -80,8 +75,6 @@ struct TrackRecord {
   bool has_distance = false;
   TrackResult result;
   bool inlier = false;
-  bool by_latest = false;  // matched with the latest patch, not the first
-  double nis = 0.0;        // normalized innovation squared of the match against its prediction
   // The predicted pixel itself is inside the searchable image; a landmark predicted beyond the
   // border is still searched where its region overlaps the image, but a miss is not held
   // against it (it may simply have left the view).
@@ -107,9 +100,6 @@ struct FrameReport {
   int deleted = 0;
   int initialized = 0;
   int edge_corners = 0;  // corners not taken as landmarks: their patch is an edge
-  int refreshed = 0;     // latest patches refreshed
-  int by_latest = 0;     // matched with the latest patch (the first one no longer matched)
-  int inconsistent = 0;  // landmarks deleted: their matches kept straying from the predictions
   int steps = 0;
   JcbbResult jcbb;
 };
@@ -206,7 +196,6 @@ class FramePipeline {
   std::array<int, hal::kMaxCorners> new_corners_{};
   int new_corner_count_ = 0;
   int new_wanted_ = 0;
-  PatchTemplate template_;
   // A candidate's patch and template, checked before it becomes a landmark.
   LandmarkPatch candidate_patch_;
   PatchTemplate candidate_template_;

@@ -15,15 +15,10 @@ struct LandmarkBookConfig {
   // frame without a match, in view or not: its depth is still unknown, and found again later its
   // wide search region easily takes a look-alike for it.
   int min_matches_to_keep = 3;
-  // New landmarks are taken whenever fewer than target_in_view were matched, up to that many
-  // (Section 3.2 keeps 5-10 in view; more, spread over the image, constrain the pose better).
+  // New landmarks are taken when fewer than min_in_view were matched, up to target_in_view
+  // (Section 3.2: 5-10 landmarks in view).
+  int min_in_view = 5;
   int target_in_view = 10;
-  // A landmark whose matches' normalized innovation squared (2 dof: mean 2 for a consistent
-  // estimator), averaged with weight residual_weight for the newest, exceeds max_mean_nis after
-  // at least min_matches_to_keep matches is deleted (Section 3.3's gate passes each match, but a
-  // corner sliding along an occluding edge strays from its prediction match after match).
-  double residual_weight = 0.2;
-  double max_mean_nis = 2.5;
   // New landmarks keep this distance from every landmark in view, in pixels.
   double exclusion_px = 20.0;
 };
@@ -45,10 +40,6 @@ class LandmarkBook {
   // now failed max_consecutive_failures times in a row and should be deleted.
   bool record(int slot, bool matched);
   [[nodiscard]] int failures(int slot) const;
-  // Records a matched landmark's normalized innovation squared; returns true when its average
-  // now exceeds max_mean_nis (delete it). Non-finite values count as max_mean_nis.
-  bool record_residual(int slot, double nis);
-  [[nodiscard]] double mean_nis(int slot) const;
   // Starts a frame (for frames_since_match).
   void next_frame() { ++frame_; }
   // Frames since the landmark's last match (or activation).
@@ -65,7 +56,6 @@ class LandmarkBook {
   std::array<std::uint16_t, hal::kMaxLandmarks> failures_{};
   std::array<std::uint16_t, hal::kMaxLandmarks> matches_{};
   std::array<std::uint32_t, hal::kMaxLandmarks> last_match_{};
-  std::array<double, hal::kMaxLandmarks> mean_nis_{};
   std::uint32_t frame_ = 0;
   int active_count_ = 0;
 };

@@ -74,10 +74,7 @@ struct PatchTemplate {
 bool make_template(const LandmarkPatch& patch, double scale, float min_std_gray,
                    PatchTemplate& out);
 
-// Two patches per landmark slot, allocated at construction: the first sighting's, which does not
-// drift, and the latest, refreshed where the landmark was matched, which follows the corner's
-// change of appearance with the viewpoint (the frame pipeline matches the first while it still
-// matches, the latest only then).
+// One patch per landmark slot, allocated at construction.
 class PatchStore {
  public:
   PatchStore();
@@ -85,26 +82,16 @@ class PatchStore {
   PatchStore(const PatchStore&) = delete;
   PatchStore& operator=(const PatchStore&) = delete;
 
-  // The first sighting, also the latest patch. False for a slot out of range or a window that
-  // does not fit (the slot is then cleared).
+  // False for a slot out of range or a window that does not fit (the slot is then cleared).
   bool capture(int slot, const hal::GrayImageView& image, double u_px, double v_px, double depth_m);
-  // Replaces the latest patch of a slot that has one; the first stays. False (nothing changed)
-  // for a slot without a patch or a window that does not fit.
-  bool refresh(int slot, const hal::GrayImageView& image, double u_px, double v_px, double depth_m,
-               const Eigen::Vector3d& camera_position, bool has_camera);
   void clear(int slot);
-  // Records the camera position of the slot's first sighting (LandmarkPatch::anchor), on both
-  // patches.
+  // Records the camera position of the slot's first sighting (LandmarkPatch::anchor).
   void set_anchor(int slot, const Eigen::Vector3d& camera_position);
   // Null for a slot out of range or without a patch.
   [[nodiscard]] const LandmarkPatch* get(int slot) const;
-  // Null also for a slot whose patch was never refreshed.
-  [[nodiscard]] const LandmarkPatch* latest(int slot) const;
 
  private:
   std::unique_ptr<std::array<LandmarkPatch, hal::kMaxLandmarks>> patches_;
-  std::unique_ptr<std::array<LandmarkPatch, hal::kMaxLandmarks>> latest_;
-  LandmarkPatch scratch_;
 };
 
 }  // namespace cleanslam::slam_core::frontend

@@ -18,6 +18,8 @@ struct PixelPrediction {
 struct SearchRegionConfig {
   // Chi-square bound of the gate, 2 degrees of freedom (9.21: 99 %).
   double gate_chi2 = 9.21;
+  // The region's bounding box is at most this far from the prediction (bounded work).
+  double max_half_extent_px = 40.0;
   // Patch centres keep this distance from the image border (a 15x15 window and one pixel for
   // interpolation).
   int margin_px = 8;
@@ -32,9 +34,7 @@ enum class RegionFailure : std::uint8_t {
 };
 
 // Section 3.3: the ellipse (x - uv)^T S^-1 (x - uv) <= gate around the predicted pixel, and its
-// bounding box clipped to the part of the image where a patch fits: as large as the predicted
-// covariance says (an uncertain heading after a sharp turn), since the tracker's work per region
-// does not grow with its area (Tracker::track: a bounded number of corners and start points).
+// bounding box clipped to the part of the image where a patch fits.
 struct SearchRegion {
   bool valid = false;
   RegionFailure failure = RegionFailure::kNone;
