@@ -258,13 +258,12 @@ TEST(EstimatorAllocation, EkfWithTheCheapOdometryMechanismsAllocatesNothing) {
   EXPECT_GT(ekf->counters().wheel_gyro_mismatches_fused, 50U);
 }
 
-TEST(EstimatorAllocation, EkfWithGyroBiasStateAndPoseGivenYoungTestAllocatesNothing) {
+TEST(EstimatorAllocation, EkfWithGyroBiasStateAllocatesNothing) {
   hal::Calibration calibration;
   calibration.gyro.bias_instability = 0.005;
   cs::EkfConfig config;
   config.gyro_bias_state = true;
   config.gyro_bias_walk = 0.0005;
-  config.young_depth_given_pose = true;
   auto ekf = std::make_unique<cs::Ekf>(calibration, config);
   EXPECT_TRUE(ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6));
   EkfRun run;

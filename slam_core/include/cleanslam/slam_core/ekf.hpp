@@ -172,9 +172,6 @@ class Ekf {
   // Std. dev. of the landmark's depth relative to the camera, along the camera-landmark line,
   // divided by that depth; -1 for an unused slot.
   [[nodiscard]] double relative_depth_std(int slot) const;
-  // The same for the landmark's depth given the camera pose (the map's own uncertainty, without
-  // the pose's); -1 for an unused slot.
-  [[nodiscard]] double depth_std_given_pose(int slot) const;
   // The consider update applies to it (EkfConfig::consider_young_landmarks).
   [[nodiscard]] bool young(int slot) const;
   [[nodiscard]] Eigen::Vector3d landmark(int slot) const;
