@@ -123,9 +123,6 @@ constexpr std::array kSlamParameters{
       false, "",
       "a remap's merge moves the robot to the earlier entry and leaves the entry as it was "
       "(Schmidt)"},
-    P{"filter.remap_merge_across_ray",
-      [](SlamConfig& c) { return parameter_field(c.filter.merge_across_ray); }, 0.0, 0.0, 1.0,
-      false, "", "a remap's merge constrains only across the camera's ray to the remapped entry"},
     P{"filter.second_order_yaw",
       [](SlamConfig& c) { return parameter_field(c.filter.second_order_yaw); }, 0.0, 0.0, 1.0,
       false, "", "camera measurements' covariance includes eq. 21's second-order yaw terms"},

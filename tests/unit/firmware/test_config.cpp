@@ -37,30 +37,6 @@ TEST(Config, TheSampleDocumentsEveryKeyWithItsDefault) {
   EXPECT_TRUE(defaults.warnings.empty()) << joined(defaults.warnings);
 }
 
-TEST(Config, TheCheapOdometryProfileLoadsAndTurnsOnItsMechanisms) {
-  const std::string profile =
-      std::string(CLEANSLAM_SOURCE_DIR) + "/firmware/config/cheap-odometry.yaml";
-  const ConfigResult r = load_config(profile, {});
-  ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_TRUE(r.warnings.empty()) << joined(r.warnings);
-  const slam_core::SlamConfig& f = r.config.slam;
-  EXPECT_EQ(f.filter.eps_trk_px, 3.0);
-  EXPECT_TRUE(f.filter.gyro_bias_state && r.config.gyro_errors_from_calibration &&
-              f.filter.distance_scale_state && f.filter.second_order_yaw &&
-              f.filter.merge_across_ray && f.filter.wheel_drift_state);
-  // Everything else stays at the defaults.
-  FirmwareConfig expected;
-  expected.slam.filter.eps_trk_px = 3.0;
-  expected.slam.filter.gyro_bias_state = true;
-  expected.gyro_errors_from_calibration = true;
-  expected.slam.filter.distance_scale_state = true;
-  expected.slam.filter.second_order_yaw = true;
-  expected.slam.filter.merge_across_ray = true;
-  expected.slam.filter.wheel_drift_state = true;
-  expected.slam.map.remap_pixel_std_px = 50.0;
-  EXPECT_EQ(config_text(r.config), config_text(expected));
-}
-
 TEST(Config, CanonicalTextReadsBackToTheSameConfiguration) {
   const ConfigResult a = parse_config(
       "filter:\n  eps_ct_m: 123.456789\nloop:\n  gyro_timeout_s: 0.123\nsource:\n  kind: log\n"
@@ -195,13 +171,11 @@ TEST(Config, RemapKeysParseAndAreRangeChecked) {
   const ConfigResult r = parse_config(
       "filter:\n  remap_pixel_std_px: 0\n  remap_min_yaw_std_deg: 10\n"
       "  remap_max_mapped_in_view: 4\n  remap_merge_gate_chi2: 11.34\n"
-      "  remap_merge_consider_earlier: false\n  remap_merge_across_ray: true\n",
+      "  remap_merge_consider_earlier: false\n",
       "r.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
   EXPECT_TRUE(FirmwareConfig{}.slam.filter.merge_considers_kept);
   EXPECT_FALSE(r.config.slam.filter.merge_considers_kept);
-  EXPECT_FALSE(FirmwareConfig{}.slam.filter.merge_across_ray);
-  EXPECT_TRUE(r.config.slam.filter.merge_across_ray);
   EXPECT_EQ(r.config.slam.map.remap_pixel_std_px, 0.0);
   EXPECT_EQ(r.config.slam.map.remap_min_yaw_std_deg, 10.0);
   EXPECT_EQ(r.config.slam.map.remap_max_mapped_in_view, 4);
@@ -209,16 +183,15 @@ TEST(Config, RemapKeysParseAndAreRangeChecked) {
   const ConfigResult bad = parse_config(
       "filter:\n  remap_pixel_std_px: -1\n  remap_min_yaw_std_deg: 200\n"
       "  remap_max_mapped_in_view: -2\n  remap_merge_gate_chi2: x\n"
-      "  remap_merge_consider_earlier: 2\n  remap_merge_across_ray: 1\n",
+      "  remap_merge_consider_earlier: 2\n",
       "b.yaml", {});
-  ASSERT_EQ(bad.errors.size(), 6U) << joined(bad.errors);
+  ASSERT_EQ(bad.errors.size(), 5U) << joined(bad.errors);
   const std::string all = joined(bad.errors);
   EXPECT_NE(all.find("b.yaml:2: filter.remap_pixel_std_px"), std::string::npos) << all;
   EXPECT_NE(all.find("b.yaml:3: filter.remap_min_yaw_std_deg"), std::string::npos) << all;
   EXPECT_NE(all.find("b.yaml:4: filter.remap_max_mapped_in_view"), std::string::npos) << all;
   EXPECT_NE(all.find("b.yaml:5: filter.remap_merge_gate_chi2"), std::string::npos) << all;
   EXPECT_NE(all.find("b.yaml:6: filter.remap_merge_consider_earlier"), std::string::npos) << all;
-  EXPECT_NE(all.find("b.yaml:7: filter.remap_merge_across_ray"), std::string::npos) << all;
 }
 
 TEST(Config, InvariantResetIsOnByDefaultAndParses) {

@@ -237,17 +237,16 @@ TEST(EstimatorAllocation, EkfWithInvariantResetAllocatesNothing) {
   expect_no_allocation(hal::Calibration{}, config, {0, 20000});
 }
 
-// The cheap-odometry profile: the three odometry error states with the wheels' and the gyro's
-// turns compared, the second-order yaw terms, merges across the ray; chunked (the one-shot path is
+// The three odometry error states with the wheels' and the gyro's turns compared, the
+// second-order yaw terms; chunked (the one-shot path is
 // the same code, run by the test above).
-TEST(EstimatorAllocation, EkfWithTheCheapOdometryMechanismsAllocatesNothing) {
+TEST(EstimatorAllocation, EkfWithTheOdometryErrorStatesAllocatesNothing) {
   hal::Calibration calibration;
   calibration.gyro.bias_instability = 0.005;
   calibration.wheels.scale_error = 0.12;
   cs::EkfConfig config;
   config.invariant_reset = true;
   config.merge_considers_kept = true;
-  config.merge_across_ray = true;
   config.second_order_yaw = true;
   config.gyro_bias_state = true;
   config.gyro_bias_walk = 0.0005;

@@ -76,10 +76,6 @@ struct EkfConfig {
   // in the yaw (yaw_curvature_covariance): a measurement made while the yaw is uncertain
   // corrects less than the linearization claims.
   bool second_order_yaw = false;
-  // A merge constrains the two entries only across the camera's ray to the dropped one (2 dof):
-  // the dropped entry's depth, triangulated from the few centimetres the robot moved since it
-  // was mapped again, does not pull on the robot.
-  bool merge_across_ray = false;
   // Smallest variance allowed on the diagonal of P after an update (the PSD guard).
   double min_variance = 1e-12;
 };
