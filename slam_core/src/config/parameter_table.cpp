@@ -99,9 +99,6 @@ constexpr std::array kSlamParameters{
       false, "",
       "the wheels' drift per metre as a filter state (slot 0's third row); needs wheel_yaw_fusion "
       "and gyro_bias_state"},
-    P{"filter.reinit_behind_camera",
-      [](SlamConfig& c) { return parameter_field(c.map.reinit_behind_camera); }, 0.0, 0.0, 1.0,
-      false, "", "a tracked landmark predicted behind the camera starts again from its ray"},
     P{"filter.remap_pixel_std_px",
       [](SlamConfig& c) { return parameter_field(c.map.remap_pixel_std_px); }, 30.0, 0.0, 1e4,
       false, "px",
