@@ -160,8 +160,6 @@ Setup read_setup(ByteReader& in) {
   c.invariant_reset = bit(5);
   c.merge_considers_kept = bit(6);
   c.second_order_yaw = bit(7);
-  c.merge_across_ray = bit(8);
-  c.young_depth_given_pose = bit(9);
   c.gate_pixel_chi2 = bit(10) ? 0.0 : c.gate_pixel_chi2;
   c.max_depth_m = bit(11) ? 8.0 : 0.0;
   c.gyro_bias_walk = bit(12) ? 1e-4 : 0.0;

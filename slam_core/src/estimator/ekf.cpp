@@ -185,30 +185,11 @@ double Ekf::relative_depth_std(int slot) const {
   return std::sqrt(std::max(0.0, u.dot(Prel * u))) / depth;
 }
 
-double Ekf::depth_std_given_pose(int slot) const {
-  Eigen::Vector3d u;
-  double depth = 0.0;
-  if (!ray_to(slot, u, depth)) {
-    return -1.0;
-  }
-  const int lm = row_of(slot);
-  // Var of u^T y given the pose: the Schur complement P_yy - P_yx P_xx^-1 P_xy.
-  const Eigen::Matrix<double, 6, 1> Pxy_u = P_.block<6, 3>(0, lm) * u;
-  const Eigen::LDLT<Matrix6d> ldlt(P_.topLeftCorner<6, 6>());
-  double var = u.dot(P_.block<3, 3>(lm, lm) * u);
-  if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
-    var -= Pxy_u.dot(ldlt.solve(Pxy_u));
-  }
-  return std::sqrt(std::max(0.0, var)) / depth;
-}
-
 bool Ekf::young(int slot) const {
   if (!config_.consider_young_landmarks || !slot_used(slot)) {
     return false;
   }
-  const double s =
-      config_.young_depth_given_pose ? depth_std_given_pose(slot) : relative_depth_std(slot);
-  return s > config_.young_depth_std_fraction;
+  return relative_depth_std(slot) > config_.young_depth_std_fraction;
 }
 
 Eigen::Vector3d Ekf::landmark(int slot) const {

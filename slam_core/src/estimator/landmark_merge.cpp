@@ -7,32 +7,10 @@
 
 namespace cleanslam::slam_core {
 
-namespace {
-
-// Rows: two unit vectors across the ray r, then a zero row.
-Eigen::Matrix3d across(const Eigen::Vector3d& r) {
-  const Eigen::Vector3d u = r.normalized();
-  Eigen::Vector3d a = u.cross(Eigen::Vector3d::UnitZ());
-  if (a.norm() < 1e-6) {
-    a = u.cross(Eigen::Vector3d::UnitX());
-  }
-  a.normalize();
-  Eigen::Matrix3d T;
-  T.row(0) = a.transpose();
-  T.row(1) = u.cross(a).transpose();
-  T.row(2).setZero();
-  return T;
-}
-
-}  // namespace
-
 // z = y_keep - y_drop = 0 with H = [.. I .. -I ..]: exactly linear, so the update's only error is
 // in the covariance the two estimates carry. P H^T is the difference of two column blocks. With
 // the kept entry considered, its rows of the gain are zero (Schmidt). The covariance follows the
-// form for any gain either way. Across the ray, z = T (y_keep - y_drop) with T's rows across
-// the camera's ray to y_drop and a zero third row: the dropped entry's depth (from a few
-// centimetres of parallax) does not enter, and the zero row leaves a third component with zero
-// gain.
+// form for any gain either way.
 ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, double merge_std_m) {
   finish_update();
   merge_test_ratio_ = -1.0;
@@ -45,31 +23,14 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
   const int b = row_of(drop);
   auto PHt = PHt_.topLeftCorner(n, 3);
   PHt = P_.block(0, a, n, 3) - P_.block(0, b, n, 3);
-  Eigen::Matrix3d T = Eigen::Matrix3d::Identity();
-  if (config_.merge_across_ray) {
-    T = across(x_.segment<3>(b) - x_.head<3>());
-    for (int i = 0; i < n; ++i) {  // row by row: no temporary of n rows
-      const Eigen::Vector3d row = PHt.row(i).transpose();
-      PHt.row(i) = (T * row).transpose();
-    }
-  }
   Eigen::Matrix3d S = PHt.middleRows<3>(a) - PHt.middleRows<3>(b);
-  if (config_.merge_across_ray) {
-    S = (T * S).eval();
-  }
   S = (0.5 * (S + S.transpose())).eval();
   S.diagonal().array() += merge_std_m * merge_std_m;
-  if (config_.merge_across_ray) {
-    S(2, 2) = 1.0;  // the zero component: any variance, so that merge_std_m = 0 is allowed
-  }
   const Eigen::LLT<Eigen::Matrix3d> llt(S);
   if (llt.info() != Eigen::Success) {
     return ObservationResult::kNotPositiveDefinite;
   }
-  Eigen::Vector3d nu = x_.segment<3>(b) - x_.segment<3>(a);
-  if (config_.merge_across_ray) {
-    nu = (T * nu).eval();
-  }
+  const Eigen::Vector3d nu = x_.segment<3>(b) - x_.segment<3>(a);
   merge_test_ratio_ = nu.dot(llt.solve(nu));
   if (gate_chi2 > 0.0 && !(merge_test_ratio_ <= gate_chi2)) {
     ++counters_.merges_gated;

@@ -82,7 +82,7 @@ bool SlamSystem::associate_features() {
     }
     const int slot = feature_slot_[static_cast<std::size_t>(i)];
     int earlier = -1;
-    if (map_.classify(slot, m < kMaxObs, earlier) != MapManager::Sighting::kObserve) {
+    if (map_.classify(slot, earlier) != MapManager::Sighting::kObserve) {
       remap_of_[static_cast<std::size_t>(fresh)] = earlier;
       new_feature_[static_cast<std::size_t>(fresh++)] = i;
       continue;

@@ -47,18 +47,11 @@ void MapManager::begin_frame(int mapped_in_view) {
   merge_count_ = 0;
 }
 
-MapManager::Sighting MapManager::classify(int slot, bool room, int& earlier) {
+MapManager::Sighting MapManager::classify(int slot, int& earlier) {
   earlier = -1;
   if (slot < 0 || needs_remap(slot)) {
     earlier = slot;
     return Sighting::kNew;
-  }
-  PixelPrediction pp;
-  if (room && config_.reinit_behind_camera && !(ekf_.predict_pixel(slot, pp) && pp.in_front)) {
-    // Seen, so in front: the landmark's estimate is wrong, a new one starts from this ray.
-    ekf_.delete_landmark(slot);
-    owner_[static_cast<std::size_t>(slot)] = -1;
-    return Sighting::kReinitialize;
   }
   return Sighting::kObserve;
 }

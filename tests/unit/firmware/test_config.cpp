@@ -37,30 +37,6 @@ TEST(Config, TheSampleDocumentsEveryKeyWithItsDefault) {
   EXPECT_TRUE(defaults.warnings.empty()) << joined(defaults.warnings);
 }
 
-TEST(Config, TheCheapOdometryProfileLoadsAndTurnsOnItsMechanisms) {
-  const std::string profile =
-      std::string(CLEANSLAM_SOURCE_DIR) + "/firmware/config/cheap-odometry.yaml";
-  const ConfigResult r = load_config(profile, {});
-  ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_TRUE(r.warnings.empty()) << joined(r.warnings);
-  const slam_core::SlamConfig& f = r.config.slam;
-  EXPECT_EQ(f.filter.eps_trk_px, 3.0);
-  EXPECT_TRUE(f.filter.gyro_bias_state && r.config.gyro_errors_from_calibration &&
-              f.filter.distance_scale_state && f.filter.second_order_yaw &&
-              f.filter.merge_across_ray && f.filter.wheel_drift_state);
-  // Everything else stays at the defaults.
-  FirmwareConfig expected;
-  expected.slam.filter.eps_trk_px = 3.0;
-  expected.slam.filter.gyro_bias_state = true;
-  expected.gyro_errors_from_calibration = true;
-  expected.slam.filter.distance_scale_state = true;
-  expected.slam.filter.second_order_yaw = true;
-  expected.slam.filter.merge_across_ray = true;
-  expected.slam.filter.wheel_drift_state = true;
-  expected.slam.map.remap_pixel_std_px = 50.0;
-  EXPECT_EQ(config_text(r.config), config_text(expected));
-}
-
 TEST(Config, CanonicalTextReadsBackToTheSameConfiguration) {
   const ConfigResult a = parse_config(
       "filter:\n  eps_ct_m: 123.456789\nloop:\n  gyro_timeout_s: 0.123\nsource:\n  kind: log\n"
@@ -168,23 +144,20 @@ TEST(Config, AMissingFileIsAnErrorNamingIt) {
 
 TEST(Config, SparseOdometryKeysParseAndAreRangeChecked) {
   const ConfigResult r = parse_config(
-      "filter:\n  young_depth_given_pose: true\n  gyro_bias_state: true\n  gyro_bias_walk: 0.0005\n"
-      "  hold_heading_when_still: false\n  reinit_behind_camera: true\n"
+      "filter:\n  gyro_bias_state: true\n  gyro_bias_walk: 0.0005\n"
+      "  hold_heading_when_still: false\n"
       "  distance_scale_state: true\n  second_order_yaw: true\n",
       "s.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_TRUE(r.config.slam.filter.young_depth_given_pose);
   EXPECT_TRUE(r.config.slam.filter.gyro_bias_state);
   EXPECT_EQ(r.config.slam.filter.gyro_bias_walk, 0.0005);
   EXPECT_FALSE(r.config.slam.odometry.hold_heading_when_still);
-  EXPECT_TRUE(r.config.slam.map.reinit_behind_camera);
   EXPECT_TRUE(r.config.slam.filter.distance_scale_state);
   EXPECT_TRUE(r.config.slam.filter.second_order_yaw);
   const FirmwareConfig defaults;
   EXPECT_TRUE(defaults.slam.odometry.hold_heading_when_still);
-  EXPECT_FALSE(defaults.slam.filter.gyro_bias_state || defaults.slam.map.reinit_behind_camera ||
-               defaults.slam.filter.young_depth_given_pose ||
-               defaults.slam.filter.distance_scale_state || defaults.slam.filter.second_order_yaw);
+  EXPECT_FALSE(defaults.slam.filter.gyro_bias_state || defaults.slam.filter.distance_scale_state ||
+               defaults.slam.filter.second_order_yaw);
   const ConfigResult bad =
       parse_config("filter:\n  gyro_bias_walk: -1\n  gyro_bias_state: maybe\n", "b.yaml", {});
   ASSERT_EQ(bad.errors.size(), 2U) << joined(bad.errors);
@@ -197,13 +170,11 @@ TEST(Config, RemapKeysParseAndAreRangeChecked) {
   const ConfigResult r = parse_config(
       "filter:\n  remap_pixel_std_px: 0\n  remap_min_yaw_std_deg: 10\n"
       "  remap_max_mapped_in_view: 4\n  remap_merge_gate_chi2: 11.34\n"
-      "  remap_merge_consider_earlier: false\n  remap_merge_across_ray: true\n",
+      "  remap_merge_consider_earlier: false\n",
       "r.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
   EXPECT_TRUE(FirmwareConfig{}.slam.filter.merge_considers_kept);
   EXPECT_FALSE(r.config.slam.filter.merge_considers_kept);
-  EXPECT_FALSE(FirmwareConfig{}.slam.filter.merge_across_ray);
-  EXPECT_TRUE(r.config.slam.filter.merge_across_ray);
   EXPECT_EQ(r.config.slam.map.remap_pixel_std_px, 0.0);
   EXPECT_EQ(r.config.slam.map.remap_min_yaw_std_deg, 10.0);
   EXPECT_EQ(r.config.slam.map.remap_max_mapped_in_view, 4);
@@ -211,16 +182,15 @@ TEST(Config, RemapKeysParseAndAreRangeChecked) {
   const ConfigResult bad = parse_config(
       "filter:\n  remap_pixel_std_px: -1\n  remap_min_yaw_std_deg: 200\n"
       "  remap_max_mapped_in_view: -2\n  remap_merge_gate_chi2: x\n"
-      "  remap_merge_consider_earlier: 2\n  remap_merge_across_ray: 1\n",
+      "  remap_merge_consider_earlier: 2\n",
       "b.yaml", {});
-  ASSERT_EQ(bad.errors.size(), 6U) << joined(bad.errors);
+  ASSERT_EQ(bad.errors.size(), 5U) << joined(bad.errors);
   const std::string all = joined(bad.errors);
   EXPECT_NE(all.find("b.yaml:2: filter.remap_pixel_std_px"), std::string::npos) << all;
   EXPECT_NE(all.find("b.yaml:3: filter.remap_min_yaw_std_deg"), std::string::npos) << all;
   EXPECT_NE(all.find("b.yaml:4: filter.remap_max_mapped_in_view"), std::string::npos) << all;
   EXPECT_NE(all.find("b.yaml:5: filter.remap_merge_gate_chi2"), std::string::npos) << all;
   EXPECT_NE(all.find("b.yaml:6: filter.remap_merge_consider_earlier"), std::string::npos) << all;
-  EXPECT_NE(all.find("b.yaml:7: filter.remap_merge_across_ray"), std::string::npos) << all;
 }
 
 TEST(Config, InvariantResetIsOnByDefaultAndParses) {

@@ -237,17 +237,16 @@ TEST(EstimatorAllocation, EkfWithInvariantResetAllocatesNothing) {
   expect_no_allocation(hal::Calibration{}, config, {0, 20000});
 }
 
-// The cheap-odometry profile: the three odometry error states with the wheels' and the gyro's
-// turns compared, the second-order yaw terms, merges across the ray; chunked (the one-shot path is
+// The three odometry error states with the wheels' and the gyro's turns compared, the
+// second-order yaw terms; chunked (the one-shot path is
 // the same code, run by the test above).
-TEST(EstimatorAllocation, EkfWithTheCheapOdometryMechanismsAllocatesNothing) {
+TEST(EstimatorAllocation, EkfWithTheOdometryErrorStatesAllocatesNothing) {
   hal::Calibration calibration;
   calibration.gyro.bias_instability = 0.005;
   calibration.wheels.scale_error = 0.12;
   cs::EkfConfig config;
   config.invariant_reset = true;
   config.merge_considers_kept = true;
-  config.merge_across_ray = true;
   config.second_order_yaw = true;
   config.gyro_bias_state = true;
   config.gyro_bias_walk = 0.0005;
@@ -258,13 +257,12 @@ TEST(EstimatorAllocation, EkfWithTheCheapOdometryMechanismsAllocatesNothing) {
   EXPECT_GT(ekf->counters().wheel_gyro_mismatches_fused, 50U);
 }
 
-TEST(EstimatorAllocation, EkfWithGyroBiasStateAndPoseGivenYoungTestAllocatesNothing) {
+TEST(EstimatorAllocation, EkfWithGyroBiasStateAllocatesNothing) {
   hal::Calibration calibration;
   calibration.gyro.bias_instability = 0.005;
   cs::EkfConfig config;
   config.gyro_bias_state = true;
   config.gyro_bias_walk = 0.0005;
-  config.young_depth_given_pose = true;
   auto ekf = std::make_unique<cs::Ekf>(calibration, config);
   EXPECT_TRUE(ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6));
   EkfRun run;

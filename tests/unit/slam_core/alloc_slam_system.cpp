@@ -63,7 +63,6 @@ cs::SlamConfig config(cs::MapConfig::SetDown on_set_down) {
   cs::SlamConfig c;
   c.update_work_step = 20000;  // the update in many bounded parts
   c.map.on_set_down = on_set_down;
-  c.map.reinit_behind_camera = true;
   c.map.remap_min_yaw_std_deg = 1.0;
   c.map.remap_pixel_std_px = 5.0;
   c.filter.wheel_drift_state = true;

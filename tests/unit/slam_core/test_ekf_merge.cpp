@@ -31,18 +31,17 @@ void expect_equal_outside(const Eigen::VectorXd& x_after, const Eigen::MatrixXd&
   }
 }
 
-cs::EkfConfig merge_config(bool considers_kept, bool across_ray = false) {
+cs::EkfConfig merge_config(bool considers_kept) {
   cs::EkfConfig config;
   config.merge_considers_kept = considers_kept;
-  config.merge_across_ray = across_ray;
   config.invariant_reset = false;  // the dense references are the plain updates
   return config;
 }
 
 class EkfMergeTest : public ::testing::Test {
  protected:
-  explicit EkfMergeTest(bool considers_kept = false, bool across_ray = false)
-      : ekf_(calibration_, merge_config(considers_kept, across_ray)) {
+  explicit EkfMergeTest(bool considers_kept = false)
+      : ekf_(calibration_, merge_config(considers_kept)) {
     cs::Matrix6d P0 = cs::Matrix6d::Identity() * 1e-3;
     P0(5, 5) = 0.04;
     P0(0, 5) = P0(5, 0) = 0.002;
@@ -83,11 +82,6 @@ class EkfMergeTest : public ::testing::Test {
 class EkfConsideredMergeTest : public EkfMergeTest {
  protected:
   EkfConsideredMergeTest() : EkfMergeTest(true) {}
-};
-
-class EkfAcrossRayMergeTest : public EkfMergeTest {
- protected:
-  EkfAcrossRayMergeTest() : EkfMergeTest(true, true) {}
 };
 
 TEST_F(EkfMergeTest, EqualsTheDenseKalmanUpdateAndFreesTheDroppedSlot) {
@@ -234,54 +228,6 @@ TEST_F(EkfConsideredMergeTest, EqualsTheDenseSchmidtUpdateAndLeavesTheKeptEntryA
   excess.middleCols<3>(d).setZero();
   EXPECT_GE(cleanslam::test::min_eigenvalue(excess), -1e-12);
   EXPECT_GT(excess.trace(), 1e-6);
-}
-
-// EkfConfig::merge_across_ray: the constraint T (y_keep - y_drop) = 0 with T's two rows across the
-// camera's ray to y_drop, the kept entry considered: the dense Joseph form for that 2-row H.
-TEST_F(EkfAcrossRayMergeTest, EqualsTheDenseUpdateOfTheConstraintAcrossTheRay) {
-  const double r = 0.01;
-  const Scene sc = scene(143.0, 108.0, r);
-  ASSERT_GE(sc.keep, 0);
-  ASSERT_GE(sc.drop, 0);
-  const int n = sc.n;
-  const int k = 6 + 3 * sc.keep;
-  const int d = 6 + 3 * sc.drop;
-  const Eigen::VectorXd& x = sc.x;
-  const Eigen::MatrixXd& P = sc.P;
-  const Eigen::Vector3d ray = (x.segment<3>(d) - x.head<3>()).normalized();
-  Eigen::Matrix<double, 2, 3> T;
-  T.row(0) = ray.cross(Eigen::Vector3d::UnitZ()).normalized().transpose();
-  T.row(1) = ray.cross(T.row(0).transpose()).transpose();
-  const Eigen::MatrixXd H = T * sc.H;
-  const Eigen::MatrixXd R = r * r * Eigen::MatrixXd::Identity(2, 2);
-  const Eigen::MatrixXd S = H * P * H.transpose() + R;
-  Eigen::MatrixXd K = P * H.transpose() * S.inverse();
-  K.middleRows<3>(k).setZero();
-  const Eigen::Vector2d nu = -(H * x);
-  const Eigen::VectorXd x_ref = x + K * nu;
-  const Eigen::MatrixXd IKH = Eigen::MatrixXd::Identity(n, n) - K * H;
-  const Eigen::MatrixXd P_ref = IKH * P * IKH.transpose() + K * R * K.transpose();
-  ASSERT_EQ(ekf_.merge_landmarks(sc.keep, sc.drop, 0.0, r), cs::ObservationResult::kFused);
-  EXPECT_NEAR(ekf_.last_merge_test_ratio(), nu.dot(S.inverse() * nu), 1e-9);
-  const Eigen::VectorXd x_after = ekf_.state().head(n);
-  const Eigen::MatrixXd P_after = ekf_.covariance().topLeftCorner(n, n);
-  EXPECT_TRUE(x_after.segment<3>(k) == x.segment<3>(k));
-  EXPECT_TRUE((P_after.block<3, 3>(k, k) == P.block<3, 3>(k, k)));
-  expect_equal_outside(x_after, P_after, x_ref, P_ref, d);
-  EXPECT_EQ(cleanslam::test::asymmetry(P_after), 0.0);
-  EXPECT_GE(cleanslam::test::min_eigenvalue(P_after), -1e-12);
-  EXPECT_GT((x_after.head<6>() - x.head<6>()).norm(), 1e-4);
-}
-
-// The third, zero component of the constraint across the ray must not need merge noise.
-TEST_F(EkfAcrossRayMergeTest, MergesWithoutAddedNoise) {
-  const Scene sc = scene(143.0, 108.0, 0.0);
-  ASSERT_GE(sc.keep, 0);
-  ASSERT_GE(sc.drop, 0);
-  ASSERT_EQ(ekf_.merge_landmarks(sc.keep, sc.drop, 0.0, 0.0), cs::ObservationResult::kFused);
-  EXPECT_FALSE(ekf_.slot_used(sc.drop));
-  EXPECT_TRUE(ekf_.state().allFinite());
-  EXPECT_GE(ekf_.last_merge_test_ratio(), 0.0);
 }
 
 }  // namespace

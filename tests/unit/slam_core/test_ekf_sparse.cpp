@@ -206,32 +206,3 @@ TEST(EkfGyroBias, ALandmarkSeenWhileTurningOnTheSpotEstimatesTheBias) {
   EXPECT_LT(std::sqrt(ekf->gyro_bias_variance()), 0.3 * kBiasStd);
   EXPECT_GT(ekf->gyro_bias(), 0.5 * kTrueBias);
 }
-
-TEST(EkfYoung, DepthGivenThePoseIgnoresThePosesOwnUncertainty) {
-  cs::EkfConfig c;
-  c.young_depth_given_pose = true;
-  auto ekf = make_ekf(c);
-  const int known = ekf->initialize_landmark(200.0, 150.0, 3.0, 0.05);
-  ASSERT_GE(known, 0);
-  EXPECT_LT(ekf->depth_std_given_pose(known), c.young_depth_std_fraction);
-  EXPECT_FALSE(ekf->young(known));
-  // The robot drifts a metre (std. dev.) away: relative to it the landmark's depth is uncertain,
-  // but the map still knows where the landmark is relative to where the pose would be.
-  cs::OdometryIncrement u;
-  u.dx_c = Eigen::Vector3d(0.0, 0.0, 0.5);
-  u.Q.diagonal() << 1.0, 1.0, 1.0, 1e-6, 1e-6, 1e-6;
-  ASSERT_TRUE(ekf->predict(u).applied());
-  EXPECT_GT(ekf->relative_depth_std(known), c.young_depth_std_fraction);
-  EXPECT_LT(ekf->depth_std_given_pose(known), c.young_depth_std_fraction);
-  EXPECT_FALSE(ekf->young(known));
-  c.young_depth_given_pose = false;
-  auto relative = make_ekf(c);
-  ASSERT_GE(relative->initialize_landmark(200.0, 150.0, 3.0, 0.05), 0);
-  ASSERT_TRUE(relative->predict(u).applied());
-  EXPECT_TRUE(relative->young(known));
-  // A fresh landmark is young either way.
-  const int fresh = ekf->initialize_landmark(100.0, 80.0);
-  EXPECT_GT(ekf->depth_std_given_pose(fresh), 1.0);
-  EXPECT_TRUE(ekf->young(fresh));
-  EXPECT_LT(ekf->depth_std_given_pose(fresh + 1), 0.0);
-}

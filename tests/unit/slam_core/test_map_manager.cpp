@@ -43,13 +43,6 @@ cs::MapConfig remap_config() {
   return c;
 }
 
-cs::MapConfig reinit_config(bool reinit) {
-  cs::MapConfig c;
-  c.reinit_behind_camera = reinit;
-  c.remap_pixel_std_px = 0.0;
-  return c;
-}
-
 class MapManagerRemapTest : public MapManagerTest {
  protected:
   MapManagerRemapTest() : MapManagerTest(remap_config()) {}
@@ -68,9 +61,9 @@ TEST_F(MapManagerTest, ATracksLandmarkIsFoundByItsIdUntilRemovedOrForgotten) {
   EXPECT_EQ(map_.owner(a), 7);
   int earlier = 0;
   map_.begin_frame(2);
-  EXPECT_EQ(map_.classify(a, true, earlier), Sighting::kObserve);
+  EXPECT_EQ(map_.classify(a, earlier), Sighting::kObserve);
   EXPECT_EQ(earlier, -1);
-  EXPECT_EQ(map_.classify(-1, true, earlier), Sighting::kNew);
+  EXPECT_EQ(map_.classify(-1, earlier), Sighting::kNew);
   EXPECT_EQ(earlier, -1);
   ekf_.delete_landmark(a);
   map_.remove(a);
@@ -98,7 +91,7 @@ TEST_F(MapManagerRemapTest, AnUncertainReSightingIsMappedAgainAndMergedIntoItsEa
   move(0.5);
   map_.begin_frame(1);
   int earlier = -1;
-  ASSERT_EQ(map_.classify(first, true, earlier), Sighting::kNew);
+  ASSERT_EQ(map_.classify(first, earlier), Sighting::kNew);
   EXPECT_EQ(earlier, first);
   const int second = map_.initialize(7, 98.0, 120.0, earlier);
   ASSERT_GE(second, 0);
@@ -108,7 +101,7 @@ TEST_F(MapManagerRemapTest, AnUncertainReSightingIsMappedAgainAndMergedIntoItsEa
   EXPECT_EQ(map_.owner(first), -1);
   // A remapped slot is not remapped again while its merge is pending.
   map_.begin_frame(1);
-  EXPECT_EQ(map_.classify(second, true, earlier), Sighting::kObserve);
+  EXPECT_EQ(map_.classify(second, earlier), Sighting::kObserve);
   // Still observed with its depth unknown: no merge yet.
   const std::array<cs::Observation, 1> seen{cs::Observation{second, 98.0, 120.0}};
   map_.merge_remapped(seen);
@@ -130,7 +123,7 @@ TEST_F(MapManagerRemapTest, EnoughMappedLandmarksInViewAreObservedDirectly) {
   move(0.5);
   map_.begin_frame(cs::MapConfig{}.remap_max_mapped_in_view + 1);
   int earlier = -1;
-  EXPECT_EQ(map_.classify(first, true, earlier), Sighting::kObserve);
+  EXPECT_EQ(map_.classify(first, earlier), Sighting::kObserve);
 }
 
 TEST_F(MapManagerRemapTest, AMergeIntoARemovedEarlierEntryIsDropped) {
@@ -138,7 +131,7 @@ TEST_F(MapManagerRemapTest, AMergeIntoARemovedEarlierEntryIsDropped) {
   move(0.5);
   map_.begin_frame(1);
   int earlier = -1;
-  ASSERT_EQ(map_.classify(first, true, earlier), Sighting::kNew);
+  ASSERT_EQ(map_.classify(first, earlier), Sighting::kNew);
   const int second = map_.initialize(7, 98.0, 120.0, earlier);
   ekf_.delete_landmark(first);
   map_.remove(first);
@@ -146,31 +139,4 @@ TEST_F(MapManagerRemapTest, AMergeIntoARemovedEarlierEntryIsDropped) {
   map_.merge_remapped({});
   EXPECT_EQ(map_.merge_count(), 0);
   EXPECT_TRUE(ekf_.slot_used(second));
-}
-
-TEST(MapManagerReinit, ALandmarkPredictedBehindTheCameraIsDeletedForANewOne) {
-  for (const bool reinit : {false, true}) {
-    hal::Calibration calibration;
-    cs::Ekf ekf(calibration, cs::EkfConfig{});
-    ASSERT_TRUE(ekf.reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6));
-    cs::MapManager map(ekf, reinit_config(reinit));
-    const int slot = map.initialize(7, 160.0, 120.0, -1);  // at the assumed depth, 5 m ahead
-    ASSERT_GE(slot, 0);
-    cs::OdometryIncrement u;
-    u.dx_c = Eigen::Vector3d(7.0, 0.0, 0.0);
-    u.Q = cs::Matrix6d::Identity() * 1e-8;
-    ekf.predict(u);
-    cs::PixelPrediction p;
-    ASSERT_FALSE(ekf.predict_pixel(slot, p) && p.in_front);
-    map.begin_frame(1);
-    int earlier = -1;
-    // Without room for an observation nothing is deleted.
-    EXPECT_EQ(map.classify(slot, false, earlier), Sighting::kObserve);
-    EXPECT_TRUE(ekf.slot_used(slot));
-    EXPECT_EQ(map.classify(slot, true, earlier),
-              reinit ? Sighting::kReinitialize : Sighting::kObserve);
-    EXPECT_EQ(earlier, -1);
-    EXPECT_EQ(ekf.slot_used(slot), !reinit);
-    EXPECT_EQ(map.slot_of(7), reinit ? -1 : slot);
-  }
 }

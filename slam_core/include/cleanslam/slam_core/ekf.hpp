@@ -92,14 +92,14 @@ class Ekf {
 
   // Two slots that hold the same point (a landmark mapped again after the pose was lost, and its
   // earlier map entry): the linear update with the constraint y_keep - y_drop = 0 (std. dev.
-  // merge_std_m per axis), gated at gate_chi2 on its 3 dof (2 with EkfConfig::merge_across_ray;
-  // none when not above 0), then drop is deleted (EkfConfig::merge_considers_kept: keep is a
+  // merge_std_m per axis), gated at gate_chi2 on its 3 dof (none
+  // when not above 0), then drop is deleted (EkfConfig::merge_considers_kept: keep is a
   // considered state). kFused when merged; kGate, kNotPositiveDefinite, kOutOfRange or
   // kInvalidSlot (nothing changed) otherwise.
   ObservationResult merge_landmarks(int keep, int drop, double gate_chi2,
                                     double merge_std_m = 0.01);
-  // The last merge's test ratio (its innovation's squared Mahalanobis norm, 3 dof or 2 across the
-  // ray), gated or not; -1 when it did not get that far.
+  // The last merge's test ratio (its innovation's squared Mahalanobis norm, 3 dof), gated or not;
+  // -1 when it did not get that far.
   [[nodiscard]] double last_merge_test_ratio() const { return merge_test_ratio_; }
 
   // The gyro's turn less the wheels' in an increment's intervals, z = b dt - c d + noise, as their
@@ -172,9 +172,6 @@ class Ekf {
   // Std. dev. of the landmark's depth relative to the camera, along the camera-landmark line,
   // divided by that depth; -1 for an unused slot.
   [[nodiscard]] double relative_depth_std(int slot) const;
-  // The same for the landmark's depth given the camera pose (the map's own uncertainty, without
-  // the pose's); -1 for an unused slot.
-  [[nodiscard]] double depth_std_given_pose(int slot) const;
   // The consider update applies to it (EkfConfig::consider_young_landmarks).
   [[nodiscard]] bool young(int slot) const;
   [[nodiscard]] Eigen::Vector3d landmark(int slot) const;

@@ -36,11 +36,6 @@ struct EkfConfig {
   // the linearization error of its unknown depth (eq. 23's lever arm) cannot corrupt the pose.
   bool consider_young_landmarks = true;
   double young_depth_std_fraction = 0.3;
-  // Young is judged on the depth's std. dev. given the camera pose (Ekf::depth_std_given_pose)
-  // instead of relative to it: a landmark whose depth has converged in the map then corrects a
-  // pose that drifted, where the relative std. dev. would grow with the pose's own uncertainty
-  // and keep the landmark young for as long as the pose is lost.
-  bool young_depth_given_pose = false;
   // Depth bounds: an update that would move an observed landmark closer than min_depth_m or
   // farther than max_depth_m (0: no upper bound) along the optical axis drops that observation
   // (kDepthBound) and the rest is fused again.
@@ -81,10 +76,6 @@ struct EkfConfig {
   // in the yaw (yaw_curvature_covariance): a measurement made while the yaw is uncertain
   // corrects less than the linearization claims.
   bool second_order_yaw = false;
-  // A merge constrains the two entries only across the camera's ray to the dropped one (2 dof):
-  // the dropped entry's depth, triangulated from the few centimetres the robot moved since it
-  // was mapped again, does not pull on the robot.
-  bool merge_across_ray = false;
   // Smallest variance allowed on the diagonal of P after an update (the PSD guard).
   double min_variance = 1e-12;
 };

@@ -24,9 +24,8 @@ class MapManager {
 
   // What a sighting of a mapped (or unmapped) track is to become.
   enum class Sighting : std::uint8_t {
-    kObserve,       // an update of its landmark
-    kNew,           // a new landmark (earlier: its earlier entry to merge into, or -1)
-    kReinitialize,  // its landmark was predicted behind the camera and is deleted: a new one
+    kObserve,  // an update of its landmark
+    kNew,      // a new landmark (earlier: its earlier entry to merge into, or -1)
   };
 
   // A remapped landmark's fate (merge_remapped).
@@ -49,9 +48,8 @@ class MapManager {
   // Starts a frame with this many of its sightings on mapped landmarks: with more than
   // MapConfig::remap_max_mapped_in_view they constrain the whole pose, and nothing is remapped.
   void begin_frame(int mapped_in_view);
-  // Decides a sighting of a track whose landmark is `slot` (-1: none). `room`: the frame can still
-  // take an observation (re-initialization only then).
-  Sighting classify(int slot, bool room, int& earlier);
+  // Decides a sighting of a track whose landmark is `slot` (-1: none).
+  Sighting classify(int slot, int& earlier);
   // How many new landmarks a frame with `observed` landmarks observed may take.
   [[nodiscard]] static int new_landmark_budget(int observed) { return kMaxInView - observed; }
   // Undelayed initialization of the track's landmark at a pixel; `earlier` (or -1) is the entry

@@ -12,8 +12,6 @@ namespace cleanslam::slam_core {
 // Map management shared by both input paths: which landmark a sighting belongs to, when a
 // landmark is made, deleted, mapped again and merged.
 struct MapConfig {
-  // A tracked feature whose landmark is predicted behind the camera re-initializes the landmark.
-  bool reinit_behind_camera = false;
   // Re-sighting with the pose lost (yaw std. dev. above remap_min_yaw_std_deg): a landmark whose
   // predicted pixel std. dev. exceeds remap_pixel_std_px is mapped again from its ray and merged
   // into its earlier entry once its depth has converged or its track ends; 0: off.
