@@ -13,7 +13,9 @@
 #include "cleanslam/readers/dataset_source.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/allocator_interface.h>
+// The sanitizer runtime's count of the bytes its allocator holds (declared here: gcc ships the
+// runtime but not always its header).
+extern "C" std::size_t __sanitizer_get_current_allocated_bytes();
 #endif
 
 // The dataset source streams its files: the heap it holds, and the most it uses while the events
