@@ -163,7 +163,6 @@ void read_leaves(Section& s, std::span<const slam_core::Parameter<Config>> table
 // The keys of the parameter tables below `prefix`, nested mappings included.
 void read_parameters(Section& s, const std::string& prefix, FirmwareConfig& cfg) {
   read_leaves(s, slam_core::slam_parameters(), prefix, cfg.slam);
-  read_leaves(s, firmware_filter_parameters(), prefix, cfg);
   for (const std::string& child : parameter_sections::children(prefix)) {
     Section sub = s.sub(child.c_str());
     read_parameters(sub, prefix + child + ".", cfg);
@@ -185,7 +184,6 @@ void write_parameters(std::ostream& s, const std::string& prefix, const std::str
     }
   };
   leaves(slam_core::slam_parameters(), c.slam);
-  leaves(firmware_filter_parameters(), c);
   for (const std::string& child : parameter_sections::children(prefix)) {
     s << indent << child << ":\n";
     write_parameters(s, prefix + child + ".", indent + "  ", c);
@@ -199,12 +197,6 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
   for (const std::string& section : parameter_sections::children("")) {
     Section sec = top.sub(section.c_str());
     read_parameters(sec, section + ".", cfg);
-    if (section == "filter") {
-      const slam_core::EkfConfig& f = cfg.slam.filter;
-      if (f.wheel_drift_state && !(cfg.slam.odometry.wheel_yaw.enabled && f.gyro_bias_state)) {
-        sec.error("wheel_drift_state", "needs wheel_yaw_fusion and gyro_bias_state set to true");
-      }
-    }
     sec.done();
   }
   {
@@ -250,7 +242,6 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     auto& x = cfg.sinks;
     x.tum_path = s.text("tum", x.tum_path);
     x.diagnostics_path = s.text("diagnostics", x.diagnostics_path);
-    x.fusion_path = s.text("fusion", x.fusion_path);
     x.can = s.flag("can", x.can);
     x.can_interface = s.text("can_interface", x.can_interface);
     s.done();
@@ -385,22 +376,7 @@ std::string quoted(const std::string& s) {
   return out + "\"";
 }
 
-constexpr std::array kFirmwareFilterParameters{
-    slam_core::Parameter<FirmwareConfig>{
-        "filter.gyro_errors_from_calibration",
-        [](FirmwareConfig& c) {
-          return slam_core::parameter_field(c.gyro_errors_from_calibration);
-        },
-        0.0, 0.0, 1.0, false, "",
-        "gyro_scale_error, gyro_bias_walk at least the calibration's gyro.scale_error, "
-        "gyro.bias_walk"},
-};
-
 }  // namespace
-
-std::span<const slam_core::Parameter<FirmwareConfig>> firmware_filter_parameters() {
-  return kFirmwareFilterParameters;
-}
 
 ConfigResult parse_config(const std::string& text, const std::string& file_name,
                           const std::vector<std::string>& overrides) {
@@ -466,7 +442,6 @@ std::string config_text(const FirmwareConfig& c) {
   s << "sinks:\n"
     << "  tum: " << quoted(k.tum_path) << "\n"
     << "  diagnostics: " << quoted(k.diagnostics_path) << "\n"
-    << "  fusion: " << quoted(k.fusion_path) << "\n"
     << "  can: " << (k.can ? "true" : "false") << "\n"
     << "  can_interface: " << quoted(k.can_interface) << "\n";
   const auto& r = c.recorder;

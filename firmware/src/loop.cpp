@@ -285,7 +285,6 @@ void Loop::run_dead_reckoning() {
     const bool gyro_ok = (health_ & hal::kGyroSilent) == 0;
     estimator_.predict(gyro_ok ? last_gyro_ns_ : now_ns_, gyro_ok);
     ++stats_.predictions;
-    pass_fusion_records();
     return;
   }
   if (!odometry_pending_) {
@@ -294,21 +293,6 @@ void Loop::run_dead_reckoning() {
   odometry_pending_ = false;
   estimator_.predict(last_encoder_ns_, (health_ & hal::kGyroSilent) == 0);
   ++stats_.predictions;
-  pass_fusion_records();
-}
-
-void Loop::pass_fusion_records() {
-  const hal::log::FusionRecord* records = nullptr;
-  const int n = estimator_.take_fusion_records(records);
-  for (int i = 0; i < n; ++i) {
-    for (UpdateSink* sink : update_sinks_) {
-      sink->fusion(records[i]);
-    }
-    if (recorder_ != nullptr) {
-      recorder_->fusion(records[i]);
-    }
-  }
-  stats_.fusion_records += static_cast<std::uint64_t>(n);
 }
 
 void Loop::run_frame_steps() {
@@ -316,7 +300,6 @@ void Loop::run_frame_steps() {
     active_ = pending_;
     pending_ = nullptr;
     estimator_.begin_frame(active_->frame);
-    pass_fusion_records();  // the image path predicts to the frame's time
   }
   if (active_ == nullptr) {
     return;

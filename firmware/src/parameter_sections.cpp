@@ -34,7 +34,6 @@ void add_children(std::span<const slam_core::Parameter<Config>> table, std::stri
 std::vector<std::string> children(std::string_view prefix) {
   std::vector<std::string> out;
   add_children(slam_core::slam_parameters(), prefix, out);
-  add_children(firmware_filter_parameters(), prefix, out);
   return out;
 }
 

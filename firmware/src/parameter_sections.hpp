@@ -7,8 +7,8 @@
 #include "cleanslam/firmware/config.hpp"
 #include "cleanslam/slam_core/parameter_table.hpp"
 
-// The estimator's sections of the configuration as the parameter tables lay them out: the keys
-// of slam_core::slam_parameters() and firmware_filter_parameters(), nested at their dots.
+// The estimator's sections of the configuration as the parameter table lays them out: the keys
+// of slam_core::slam_parameters(), nested at their dots.
 namespace cleanslam::firmware::parameter_sections {
 
 // The key's name below `prefix` ("frontend.harris." and "frontend.harris.k" -> "k") when it is

@@ -418,15 +418,12 @@ int run_normal(const Args& args) {
     loop.add_pose_sink(&tum);
   }
   DiagnosticsCsv diagnostics;
-  FusionCsv fusion;
   const SinkSettings& k = config.sinks;
-  if ((!k.diagnostics_path.empty() && !diagnostics.open(k.diagnostics_path, error)) ||
-      (!k.fusion_path.empty() && !fusion.open(k.fusion_path, error))) {
+  if (!k.diagnostics_path.empty() && !diagnostics.open(k.diagnostics_path, error)) {
     std::fprintf(stderr, "cleanslam: error: %s\n", error.c_str());
     return 2;
   }
   loop.add_update_sink(&diagnostics);  // a CSV sink that was not opened writes nothing
-  loop.add_update_sink(&fusion);
   if (config.sinks.can && !robot) {
     std::fprintf(stderr,
                  "cleanslam: warning: sinks.can: the CAN pose sink needs source.kind: drivers; "
@@ -555,14 +552,6 @@ void print_summary(const Loop& loop, std::FILE* out) {
                  static_cast<unsigned long long>(w.intervals_gated),
                  static_cast<unsigned long long>(w.windows_used),
                  static_cast<unsigned long long>(w.windows_gated));
-    if (w.drift_state) {
-      std::fprintf(out,
-                   "cleanslam: wheel drift state: %+.4f rad/m (std. dev. %.4f), gyro bias %+.5f "
-                   "rad/s (std. dev. %.5f); %llu turn differences fused, %llu gated\n",
-                   w.state_drift_rad_per_m, w.state_drift_std, w.state_gyro_bias_rad_s,
-                   w.state_gyro_bias_std, static_cast<unsigned long long>(w.mismatches_fused),
-                   static_cast<unsigned long long>(w.mismatches_gated));
-    }
   }
   for (std::size_t i = 0; i < kRejectCount; ++i) {
     if (s.rejects.n[i] > 0) {

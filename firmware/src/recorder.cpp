@@ -137,9 +137,6 @@ void Recorder::pose(const hal::PoseEstimate& p) {
 void Recorder::update(const lf::UpdateRecord& u) {
   append(lf::RecordType::kUpdate, lf::kUpdatePayload, [&](lf::ByteWriter& w) { lf::encode(w, u); });
 }
-void Recorder::fusion(const lf::FusionRecord& f) {
-  append(lf::RecordType::kFusion, lf::kFusionPayload, [&](lf::ByteWriter& w) { lf::encode(w, f); });
-}
 
 std::size_t Recorder::write_segment(std::size_t max_bytes) {
   const std::size_t n = std::min({size_, ring_.size() - head_, max_bytes});

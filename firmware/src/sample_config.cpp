@@ -74,7 +74,6 @@ source:
 sinks:
   tum: ""                    # TUM trajectory file (t x y z qx qy qz qw), "" for none
   diagnostics: ""            # per-update diagnostics records (CSV), "" for none
-  fusion: ""                 # odometry fusions' records (CSV: the turns' difference with filter.wheel_drift_state), "" for none
   can: false                 # drivers: publish the pose as CAN frames (0x201, 0x202 of docs/can.md)
   can_interface: "can0"
 
@@ -140,7 +139,6 @@ void sample_parameters(std::ostream& s, const std::string& prefix, const std::st
     }
   };
   leaves(slam_core::slam_parameters(), defaults.slam);
-  leaves(firmware_filter_parameters(), defaults);
   for (const std::string& child : parameter_sections::children(prefix)) {
     s << indent << child << ":\n";
     sample_parameters(s, prefix + child + ".", indent + "  ");

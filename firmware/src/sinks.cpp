@@ -201,26 +201,4 @@ void DiagnosticsCsv::update(const hal::log::UpdateRecord& r) {
                r.innovation_u, r.innovation_v, r.mahalanobis2);
 }
 
-const char* to_string(hal::log::FusionSource s) {
-  switch (s) {
-    case hal::log::FusionSource::kWheelGyroMismatch:
-      return "wheel_gyro_mismatch";
-  }
-  return "?";
-}
-
-bool FusionCsv::open(const std::string& path, std::string& error) {
-  return open_with_header(
-      path, "#t_ns,source,index,status,innovation,innovation_variance,test_ratio\n", error);
-}
-
-void FusionCsv::fusion(const hal::log::FusionRecord& r) {
-  if (file_ == nullptr) {
-    return;
-  }
-  std::fprintf(file_, "%lld,%s,%d,%s,%.9g,%.9g,%.9g\n", static_cast<long long>(r.t_ns),
-               to_string(r.source), static_cast<int>(r.index), r.fused ? "fused" : "gated",
-               r.innovation, r.innovation_variance, r.test_ratio);
-}
-
 }  // namespace cleanslam::firmware

@@ -56,16 +56,6 @@ bool SlamEstimator::wheel_yaw(WheelYawReport& out) const {
   out.intervals_gated = k.intervals_gated;
   out.windows_used = k.windows_used;
   out.windows_gated = k.windows_gated;
-  out.drift_state = config.filter.wheel_drift_state;
-  if (out.drift_state) {
-    const slam_core::Ekf& e = ekf();
-    out.state_drift_rad_per_m = e.wheel_drift();
-    out.state_drift_std = std::sqrt(std::max(0.0, e.wheel_drift_variance()));
-    out.state_gyro_bias_rad_s = e.gyro_bias();
-    out.state_gyro_bias_std = std::sqrt(std::max(0.0, e.gyro_bias_variance()));
-    out.mismatches_fused = e.counters().wheel_gyro_mismatches_fused;
-    out.mismatches_gated = e.counters().wheel_gyro_mismatches_gated;
-  }
   return true;
 }
 

@@ -26,14 +26,11 @@ cs::OdometryIncrement step_increment() {
 
 // An EKF with `landmarks` slots in use, spread over the image, after some motion.
 std::unique_ptr<cs::Ekf> make_filter(int landmarks, bool invariant_reset = false,
-                                     bool merge_considers_kept = false,
-                                     bool wheel_drift_state = false) {
+                                     bool merge_considers_kept = false) {
   hal::Calibration calibration;
   cs::EkfConfig config;
   config.invariant_reset = invariant_reset;
   config.merge_considers_kept = merge_considers_kept;
-  config.gyro_bias_state = wheel_drift_state;
-  config.wheel_drift_state = wheel_drift_state;
   auto ekf = std::make_unique<cs::Ekf>(calibration, config);
   if (!ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6)) {
     std::fprintf(stderr, "bench_estimator: the filter refused its start\n");
@@ -84,20 +81,6 @@ BENCHMARK(BM_Update10)
     ->ArgsProduct({{25, 50, 100, 128}, {0, 1}})
     ->ArgNames({"landmarks", "invariant_reset"})
     ->Unit(benchmark::kMicrosecond);
-
-// One encoder interval's gyro-less-wheel turn fused into a map of range(0) landmarks with the
-// wheel drift state (Ekf::fuse_wheel_gyro_mismatch, at every prediction), with the invariant
-// reset as the firmware runs it.
-void BM_WheelGyroMismatch(benchmark::State& state) {
-  auto ekf = make_filter(static_cast<int>(state.range(0)), true, false, true);
-  cs::OdometryIncrement::WheelGyroMismatch m;
-  m.add(0.001, 0.05, 0.008, 2e-4);
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(ekf->fuse_wheel_gyro_mismatch(m, 0.0));
-  }
-  state.counters["state_dim"] = ekf->active_dim();
-}
-BENCHMARK(BM_WheelGyroMismatch)->Arg(12)->Arg(25)->Arg(128)->Unit(benchmark::kMicrosecond);
 
 // Initializes one landmark into a map of range(0) landmarks and deletes it again (the pair is
 // timed; deletion is two row/column clears).

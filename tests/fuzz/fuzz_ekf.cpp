@@ -1,13 +1,13 @@
 // Fuzz target for slam_core::Ekf. The first bytes choose the filter's options, its pool size and a
 // reset; the rest is a sequence of operations (prediction, landmark initialization, deletion and
-// merge, batch updates at once or in bounded steps, the wheel-gyro mismatch, pixel predictions,
+// merge, batch updates at once or in bounded steps, pixel predictions,
 // the body pose, a reset), each plausible or, when its opcode asks, with one input replaced by
 // NaN, an infinity, an extreme or a raw 8-byte double. After every operation:
 //  - x and P are finite over the active rows, P is exactly symmetric with a non-negative
 //    diagonal, its pose block is positive semi-definite (all of it when no update is pending),
-//    and the rows and columns of unused slots and of disabled odometry states are zero;
+//    and the rows and columns of unused slots are zero;
 //  - the landmark count and active_dim match the used mask;
-//  - a refused call (prediction, initialization, deletion, merge, mismatch, an update that fused
+//  - a refused call (prediction, initialization, deletion, merge, an update that fused
 //    nothing) left x and P unchanged and was counted; a prediction leaves the map alone;
 //  - a second filter given the same calls with every update done at once agrees exactly
 //    whenever no update is pending (the chunked result equals the one-shot one).
@@ -154,19 +154,15 @@ Setup read_setup(ByteReader& in) {
   EkfConfig& c = s.config;
   c.consider_young_landmarks = bit(0);
   c.depth_bounds = bit(1);
-  c.gyro_bias_state = bit(2);
-  c.distance_scale_state = bit(3);
-  c.wheel_drift_state = bit(4) && c.gyro_bias_state;
+  // Bits 2, 3, 4, 12 and 14 are unused.
   c.invariant_reset = bit(5);
   c.merge_considers_kept = bit(6);
   c.second_order_yaw = bit(7);
   c.gate_pixel_chi2 = bit(10) ? 0.0 : c.gate_pixel_chi2;
   c.max_depth_m = bit(11) ? 8.0 : 0.0;
-  c.gyro_bias_walk = bit(12) ? 1e-4 : 0.0;
   if (bit(13)) {
     s.calibration.camera.distortion = {-0.1, 0.02, 0.0005, -0.0003};
   }
-  s.calibration.wheels.scale_error = bit(14) ? 0.01 : 0.0;
   c.min_ray_motion_angle_rad = bit(15) ? 0.0 : c.min_ray_motion_angle_rad;
   c.max_landmarks = s.bytes[2] % 13;
   return s;
@@ -234,7 +230,6 @@ enum class Op : std::uint8_t {
   kUpdate,
   kDelete,
   kMerge,
-  kMismatch,
   kSetUpdateStep,
   kContinueUpdate,
   kFinishUpdate,
@@ -251,7 +246,6 @@ constexpr std::array<const char*, static_cast<std::size_t>(Op::kCount)> kOpNames
     "update",
     "delete_landmark",
     "merge_landmarks",
-    "fuse_wheel_gyro_mismatch",
     "set_update_step",
     "continue_update",
     "finish_update",
@@ -268,9 +262,6 @@ class Session {
       : in_(in), filter_(chunked), one_shot_(one_shot) {
     filter_.set_update_step(0);
     one_shot_.set_update_step(0);
-    first_slot_ =
-        s.config.gyro_bias_state || s.config.distance_scale_state || s.config.wheel_drift_state ? 1
-                                                                                                : 0;
     max_slots_ = s.config.max_landmarks;
     reset(false);
   }
@@ -335,9 +326,6 @@ class Session {
         break;
       case Op::kMerge:
         merge(hostile);
-        break;
-      case Op::kMismatch:
-        mismatch(hostile);
         break;
       case Op::kSetUpdateStep:
         set_update_step(hostile);
@@ -461,16 +449,10 @@ class Session {
     u.dpsi_c.y() = in_.range(-0.05, 0.05);
     u.dpsi_c.z() = in_.range(-0.4, 0.4);
     u.Q = covariance(in_, -5.0, -1.5);
-    for (auto* d : {&u.du_dbias, &u.du_dscale, &u.du_ddrift}) {
-      for (int i = 0; i < 6; ++i) {
-        (*d)(i) = in_.range(-1.0, 1.0);
-      }
-    }
     u.dt_s = in_.range(0.0, 2.0);
     u.distance_m = u.dx_c.norm();
     if (hostile) {
-      in_.corrupt({field(u.dx_c), field(u.dpsi_c), field(u.Q), field(u.du_dbias),
-                   field(u.du_dscale), field(u.du_ddrift), field(u.dt_s)});
+      in_.corrupt({field(u.dx_c), field(u.dpsi_c), field(u.Q), field(u.dt_s)});
     }
     const Snapshot before = snapshot(filter_);
     const std::uint64_t refused = filter_.counters().predictions_rejected;
@@ -485,7 +467,7 @@ class Session {
       expect(filter_.counters().predictions_rejected == refused + 1,
              "predict: refusal not counted");
     } else {
-      const int map = hal::kPoseDim + hal::kLandmarkDim * first_slot_;
+      const int map = hal::kPoseDim;
       expect(n == before.x.size() &&
                  before.x.tail(n - map) == filter_.state().segment(map, n - map) &&
                  before.P.bottomRightCorner(n - map, n - map) ==
@@ -521,7 +503,7 @@ class Session {
     expect(std::isfinite(u) && std::isfinite(v) &&
                (!at_depth || (std::isfinite(depth) && std::isfinite(eps_ct))),
            "initialize_landmark: accepted a non-finite input");
-    expect(filter_.slot_used(slot) && slot >= first_slot_ && slot < max_slots_,
+    expect(filter_.slot_used(slot) && slot >= 0 && slot < max_slots_,
            "initialize_landmark: returned a slot outside the pool");
     check_psd();
   }
@@ -583,34 +565,6 @@ class Session {
       check_psd();
     } else {
       expect(unchanged(before, filter_), "merge_landmarks: refused but changed the state");
-    }
-  }
-
-  void mismatch(bool hostile) {
-    settle();
-    OdometryIncrement::WheelGyroMismatch m;
-    const int intervals = in_.byte() % 6;
-    for (int i = 0; i < intervals; ++i) {
-      const double z = in_.range(-0.02, 0.02);
-      const double dt = in_.range(0.0, 0.05);
-      const double distance = in_.range(-0.02, 0.03);
-      m.add(z, dt, distance, in_.log_range(-10.0, -4.0));
-    }
-    double gate = in_.byte() % 2 == 0 ? 0.0 : in_.range(0.0, 20.0);
-    if (hostile) {
-      in_.corrupt({field(m.information), field(m.information_vector), field(gate)});
-    }
-    const Snapshot before = snapshot(filter_);
-    const ObservationResult r = filter_.fuse_wheel_gyro_mismatch(m, gate);
-    one_shot_.fuse_wheel_gyro_mismatch(m, gate);
-    if (!m.information.allFinite() || !m.information_vector.allFinite()) {
-      expect(r == ObservationResult::kNonFinite || r == ObservationResult::kInvalidSlot,
-             "fuse_wheel_gyro_mismatch: non-finite information not refused");
-    }
-    if (r != ObservationResult::kFused) {
-      expect(unchanged(before, filter_), "fuse_wheel_gyro_mismatch: refused but changed the state");
-    } else {
-      check_psd();
     }
   }
 
@@ -725,33 +679,29 @@ class Session {
 
   void check_filter() const {
     const Ekf& e = filter_;
-    const EkfConfig& c = e.config();
     int highest = -1;
     int used = 0;
     for (int s = 0; s < hal::kMaxLandmarks; ++s) {
       if (e.slot_used(s)) {
-        expect(s >= first_slot_ && s < max_slots_, "landmark in a reserved or excess slot");
+        expect(s < max_slots_, "landmark in an excess slot");
         highest = s;
         ++used;
       }
     }
     expect(used == e.landmark_count(), "landmark_count differs from the used slots");
     const int n = e.active_dim();
-    expect(n == hal::kPoseDim + hal::kLandmarkDim * std::max(highest + 1, first_slot_),
+    expect(n == hal::kPoseDim + hal::kLandmarkDim * (highest + 1),
            "active_dim differs from the highest used slot");
     const auto x = e.state().head(n);
     const auto P = e.covariance().topLeftCorner(n, n);
     expect(x.allFinite(), "x not finite");
     expect(P.allFinite(), "P not finite");
     expect(P == P.transpose(), "P not symmetric");
-    const std::array odometry{c.gyro_bias_state, c.distance_scale_state, c.wheel_drift_state};
     for (int i = 0; i < n; ++i) {
       const int slot = (i - hal::kPoseDim) / hal::kLandmarkDim;
-      const bool live =
-          i < hal::kPoseDim || e.slot_used(slot) ||
-          (slot == 0 && first_slot_ > 0 && odometry[static_cast<std::size_t>(i - hal::kPoseDim)]);
+      const bool live = i < hal::kPoseDim || e.slot_used(slot);
       if (!live) {
-        expect(x(i) == 0.0 && P.row(i).isZero(0.0), "row of an unused slot or state not zero");
+        expect(x(i) == 0.0 && P.row(i).isZero(0.0), "row of an unused slot not zero");
       } else {
         expect(P(i, i) >= -kPsdTolerance * P.row(i).cwiseAbs().maxCoeff(),
                "negative variance on the diagonal of P");
@@ -785,7 +735,6 @@ class Session {
   ByteReader& in_;
   Ekf& filter_;    // updates with the step budget of set_update_step
   Ekf& one_shot_;  // every update at once
-  int first_slot_ = 0;
   int max_slots_ = 0;
   std::optional<PendingUpdate> pending_;
   int operation_ = 0;

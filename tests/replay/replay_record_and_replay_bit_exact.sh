@@ -8,16 +8,6 @@ run "$CLEANSLAM" --dataset "$WORK/ds" --record "$WORK/run.log" --tum "$WORK/run.
 run "$CLEANSLAM" --replay "$WORK/run.log" 2>"$WORK/replay.err" || { cat "$WORK/replay.err" >&2; fail "replay differs"; }
 grep -q "reproduced bit for bit" "$WORK/replay.err" || fail "no verdict"
 cat "$WORK/replay.err"
-# With the wheel drift state the turns' difference is fused at every prediction: its records are
-# outputs too, and reproduced.
-run "$CLEANSLAM" --dataset "$WORK/ds" --record "$WORK/drift.log" --set filter.gyro_bias_state=true \
-  --set filter.wheel_drift_state=true --set sinks.fusion="$WORK/fusion.csv" 2>"$WORK/drift.err" ||
-  { cat "$WORK/drift.err" >&2; fail "recording run with the drift state"; }
-[ "$(grep -c ',wheel_gyro_mismatch,' "$WORK/fusion.csv")" -gt 100 ] || fail "no fusion records"
-run "$CLEANSLAM" --replay "$WORK/drift.log" 2>"$WORK/drift_replay.err" ||
-  { cat "$WORK/drift_replay.err" >&2; fail "replay with the drift state differs"; }
-grep -q "reproduced bit for bit" "$WORK/drift_replay.err" || fail "no verdict (drift state)"
-cat "$WORK/drift_replay.err"
 # A replay that must differ: the same inputs through another configuration are caught.
 python3 - "$WORK/run.log" "$WORK/tampered.log" <<'PY'
 import struct, sys, zlib

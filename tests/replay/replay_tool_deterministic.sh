@@ -3,7 +3,7 @@
 simulate
 run "$REPLAY" "$WORK/ds" --out "$WORK/a" 2>"$WORK/a.err" || { cat "$WORK/a.err" >&2; fail "first replay"; }
 run "$REPLAY" "$WORK/ds" --out "$WORK/b" 2>"$WORK/b.err" || { cat "$WORK/b.err" >&2; fail "second replay"; }
-for f in trajectory.tum trajectory.tum.cov dead_reckoning.tum landmarks.csv diagnostics.csv fusion.csv; do
+for f in trajectory.tum trajectory.tum.cov dead_reckoning.tum landmarks.csv diagnostics.csv; do
   [ -s "$WORK/a/$f" ] || fail "$f missing or empty"
   cmp "$WORK/a/$f" "$WORK/b/$f" || fail "$f differs between two replays"
 done

@@ -1,7 +1,7 @@
 // cleanslam-replay DATASET --out DIR [--force] [--accept-gaps] [--config FILE] [--set key=value]
 // Runs the firmware's own loop on a dataset through the readers library, as fast as it can, on a
 // virtual clock: deterministic. Writes DIR/trajectory.tum (+ .cov), dead_reckoning.tum,
-// dead_reckoning_published.tum, landmarks.csv, diagnostics.csv, fusion.csv.
+// dead_reckoning_published.tum, landmarks.csv, diagnostics.csv.
 #include <unistd.h>
 
 #include <algorithm>
@@ -40,8 +40,6 @@ constexpr const char* kUsage =
     "                      the same time stamps whatever the camera mode\n"
     "  landmarks.csv       slot,x,y,z,sxx,sxy,sxz,syy,syz,szz\n"
     "  diagnostics.csv     one record per observation of a visual update\n"
-    "  fusion.csv          one per scalar update of an odometry measurement (turns' difference\n"
-    "                      with filter.wheel_drift_state)\n"
     "--force        replace the outputs of an earlier run in DIR\n"
     "--accept-gaps  exit 0 even when a sensor falls silent for longer than its timeout\n"
     "               (loop.gyro_timeout_s, encoder_timeout_s, camera_timeout_s) or ends early\n"
@@ -50,9 +48,9 @@ constexpr const char* kUsage =
     "every 10 %. Exit status: 0 done, 1 a sensor gap (outputs written), 2 bad arguments,\n"
     "configuration or dataset, 130 stopped by a signal.\n";
 
-constexpr std::array<const char*, 7> kOutputs{
-    "trajectory.tum", "trajectory.tum.cov", "dead_reckoning.tum", "dead_reckoning_published.tum",
-    "landmarks.csv",  "diagnostics.csv",    "fusion.csv"};
+constexpr std::array<const char*, 6> kOutputs{"trajectory.tum",     "trajectory.tum.cov",
+                                              "dead_reckoning.tum", "dead_reckoning_published.tum",
+                                              "landmarks.csv",      "diagnostics.csv"};
 
 // Progress on stderr, driven by the published poses' time: a bar on a terminal, else a line at
 // every tenth.
@@ -229,19 +227,16 @@ int main(int argc, char** argv) {
   firmware::TumWriter dead_reckoning;
   firmware::TumWriter dead_reckoning_published;
   firmware::DiagnosticsCsv diagnostics;
-  firmware::FusionCsv fusion;
   if (!trajectory.open(out + "/trajectory.tum", true, true, error) ||
       !dead_reckoning.open(out + "/dead_reckoning.tum", true, false, error) ||
       !dead_reckoning_published.open(out + "/dead_reckoning_published.tum", true, false, error) ||
-      !diagnostics.open(out + "/diagnostics.csv", error) ||
-      !fusion.open(out + "/fusion.csv", error)) {
+      !diagnostics.open(out + "/diagnostics.csv", error)) {
     return fail(error);
   }
   loop.add_frame_sinks(&trajectory, &dead_reckoning);
   DeadReckoningAtPublish published(*estimator, dead_reckoning_published);
   loop.add_pose_sink(&published);
   loop.add_update_sink(&diagnostics);
-  loop.add_update_sink(&fusion);
   const readers::DatasetSummary& ds = source->summary();
   const hal::TimeNs t0 = ds.first_ns;
   const hal::TimeNs t1 = ds.last_ns;

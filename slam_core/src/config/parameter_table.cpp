@@ -53,17 +53,6 @@ constexpr std::array kSlamParameters{
     P{"filter.gyro_scale_error",
       [](SlamConfig& c) { return parameter_field(c.odometry.gyro_scale_error); }, 0.005, 0.0, 1.0,
       false, "", "relative gyro scale error: heading variance += (this * dyaw)^2, 0: off"},
-    P{"filter.gyro_bias_state",
-      [](SlamConfig& c) { return parameter_field(c.filter.gyro_bias_state); }, 0.0, 0.0, 1.0, false,
-      "", "residual gyro bias as a filter state (std. dev. gyro.bias_instability; takes slot 0)"},
-    P{"filter.gyro_bias_walk",
-      [](SlamConfig& c) { return parameter_field(c.filter.gyro_bias_walk); }, 0.0, 0.0, 1.0, false,
-      "rad/s/sqrt(s)", "random walk of the gyro bias state"},
-    P{"filter.distance_scale_state",
-      [](SlamConfig& c) { return parameter_field(c.filter.distance_scale_state); }, 0.0, 0.0, 1.0,
-      false, "",
-      "the wheels' distance scale error as a filter state (std. dev. wheels.scale_error, else "
-      "distance_noise; shares slot 0)"},
     P{"filter.hold_heading_when_still",
       [](SlamConfig& c) { return parameter_field(c.odometry.hold_heading_when_still); }, 1.0, 0.0,
       1.0, false, "",
@@ -94,11 +83,6 @@ constexpr std::array kSlamParameters{
       },
       50.0, 0.0, 1e5, false, "s",
       "the heading variance counts that calibration's error as persisting this long"},
-    P{"filter.wheel_drift_state",
-      [](SlamConfig& c) { return parameter_field(c.filter.wheel_drift_state); }, 0.0, 0.0, 1.0,
-      false, "",
-      "the wheels' drift per metre as a filter state (slot 0's third row); needs wheel_yaw_fusion "
-      "and gyro_bias_state"},
     P{"filter.remap_pixel_std_px",
       [](SlamConfig& c) { return parameter_field(c.map.remap_pixel_std_px); }, 30.0, 0.0, 1e4,
       false, "px",
@@ -366,13 +350,6 @@ const Parameter<SlamConfig>* find_slam_parameter(std::string_view key) {
     }
   }
   return nullptr;
-}
-
-void derive_dependent_settings(SlamConfig& config) {
-  config.odometry.bias_in_state = config.filter.gyro_bias_state;
-  config.odometry.scale_in_state = config.filter.distance_scale_state;
-  config.odometry.drift_in_state = config.filter.wheel_drift_state;
-  config.filter.wheel_drift_std_rad_per_m = config.odometry.wheel_yaw.drift_std_rad_per_m;
 }
 
 }  // namespace cleanslam::slam_core

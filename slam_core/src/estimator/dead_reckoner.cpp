@@ -136,8 +136,7 @@ bool DeadReckoner::standing_still() const {
 }
 
 void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt, bool gyro,
-                        double wheels, double gyro_weight, double drift_weight,
-                        double distance_var) {
+                        double wheels, double gyro_weight, double distance_var) {
   Increment& in = inc_;
   const double mid = in.yaw + 0.5 * dyaw;
   const double c = std::cos(mid);
@@ -146,21 +145,20 @@ void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt,
   F(0, 2) = -distance * s;
   F(1, 2) = distance * c;
   const Eigen::Vector3d g_yaw(-0.5 * distance * s, 0.5 * distance * c, 1.0);
-  if (gyro && !config_.bias_in_state) {
+  if (gyro) {
     const double bi = calibration_.gyro.bias_instability;
     yaw_var +=
         gyro_weight * gyro_weight * bi * bi * config_.gyro_bias_correlation_time_s * std::abs(dt);
   }
   const Eigen::Vector3d g_dist(c, s, 0.0);
   const double k = calibration_.wheels.distance_noise;
-  const double scale_length_m = config_.scale_in_state ? 0.0 : config_.distance_scale_correlation_m;
+  const double scale_length_m = config_.distance_scale_correlation_m;
   in.cov =
       F * in.cov * F.transpose() + yaw_var * g_yaw * g_yaw.transpose() +
       (k * k * scale_length_m * std::abs(distance) + distance_var) * g_dist * g_dist.transpose();
   in.d_scale = F * in.d_scale + distance * Eigen::Vector3d(c, s, 0.0);
   in.d_bias = F * in.d_bias;
   in.d_gyro_scale = F * in.d_gyro_scale;
-  in.d_drift = F * in.d_drift + drift_weight * g_yaw;
   if (gyro) {
     in.d_gyro_scale += gyro_weight * dyaw * g_yaw;
     in.d_bias -= gyro_weight * dt * g_yaw;
@@ -260,9 +258,6 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
   double fused_correction = 0.0;
   double fused_var = -1.0;
   double gyro_weight = 1.0;
-  double drift_weight = 0.0;
-  // The increment's heading (drift_in_state) differs from the dead reckoner's own.
-  double increment_correction = 0.0;
   if (gyro && config_.wheel_yaw.enabled && !heading_held()) {
     const double nd = calibration_.gyro.noise_density;
     const double q_left = 1.0 / w.ticks_per_meter_left;
@@ -277,23 +272,10 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
                   (w.wheel_base * w.wheel_base);
     r.distance = d;
     r.dt = live1 - live0;
-    if (config_.drift_in_state) {
-      const WheelYawFusion::StateFused sf = wheel_yaw_.fused_for_state(r, wheel_state_);
-      increment_correction = sf.yaw - dyaw;
-      fused_var = sf.variance;
-      gyro_weight = sf.gyro_weight;
-      drift_weight = sf.drift_weight;
-      if (sf.fused) {
-        inc_.mismatch.add(sf.mismatch, r.dt, r.distance, sf.mismatch_variance);
-      }
-    }
     const WheelYawFusion::Fused f = wheel_yaw_.fuse(r);
     fused_correction = f.yaw - dyaw;
-    if (!config_.drift_in_state) {
-      increment_correction = fused_correction;
-      fused_var = f.variance;
-      gyro_weight = f.gyro_weight;
-    }
+    fused_var = f.variance;
+    gyro_weight = f.gyro_weight;
     dyaw = f.yaw;
   }
   const double mid = yaw_ + 0.5 * dyaw;
@@ -305,7 +287,7 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     // A take already extrapolated past this sample.
     pending_distance_ -= d;
     pending_yaw_ -= dyaw_enc;
-    pending_fused_correction_ += increment_correction;
+    pending_fused_correction_ += fused_correction;
   } else {
     const double seg_d = d - pending_distance_;
     double seg_yaw = dyaw_enc - pending_yaw_;
@@ -316,7 +298,6 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     const bool seg_gyro = gyro && gyro_angle(seg_t_, ths, lives);
     double seg_dt = seconds(s.t_ns - seg_t_);
     double seg_weight = 1.0;
-    double seg_drift_weight = 0.0;
     if (seg_gyro) {
       seg_yaw = th1 - ths;
       if (config_.hold_heading_when_still) {
@@ -328,15 +309,13 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
         // A take inside the interval integrated its first part from the gyro alone.
         const double interval = live1 - live0;
         const double part = interval > 0.0 ? std::clamp((live1 - lives) / interval, 0.0, 1.0) : 1.0;
-        seg_yaw += increment_correction + pending_fused_correction_;
+        seg_yaw += fused_correction + pending_fused_correction_;
         pending_fused_correction_ = 0.0;
         yaw_var = fused_var * part;
         seg_weight = gyro_weight;
-        seg_drift_weight = drift_weight * part;
       }
     }
-    step(seg_d, seg_yaw, yaw_var, seg_dt, seg_gyro, std::abs(dl) + std::abs(dr), seg_weight,
-         seg_drift_weight);
+    step(seg_d, seg_yaw, yaw_var, seg_dt, seg_gyro, std::abs(dl) + std::abs(dr), seg_weight);
     seg_t_ = s.t_ns;
     pending_distance_ = 0.0;
     pending_yaw_ = 0.0;
@@ -402,11 +381,10 @@ OdometryIncrement DeadReckoner::take_increment(hal::TimeNs t_ns) {
 OdometryIncrement DeadReckoner::camera_increment(const Increment& in, double dt_s) const {
   const double k = calibration_.wheels.distance_noise;
   const double bi = calibration_.gyro.bias_instability;
-  const Eigen::Matrix3d planar =
-      in.cov + k * k * in.d_scale * in.d_scale.transpose() +
-      (config_.bias_in_state ? 0.0 : bi * bi) * in.d_bias * in.d_bias.transpose() +
-      config_.gyro_scale_error * config_.gyro_scale_error * in.d_gyro_scale *
-          in.d_gyro_scale.transpose();
+  const Eigen::Matrix3d planar = in.cov + k * k * in.d_scale * in.d_scale.transpose() +
+                                 bi * bi * in.d_bias * in.d_bias.transpose() +
+                                 config_.gyro_scale_error * config_.gyro_scale_error *
+                                     in.d_gyro_scale * in.d_gyro_scale.transpose();
   // Body increment covariance over (dx, dy, dz, droll, dpitch, dyaw).
   Matrix6d Pb = Matrix6d::Zero();
   const int idx[3] = {0, 1, 5};
@@ -430,16 +408,6 @@ OdometryIncrement DeadReckoner::camera_increment(const Increment& in, double dt_
   out.dpsi_c = u.tail<3>();
   const Matrix6d Q = J * Pb * J.transpose();
   out.Q = 0.5 * (Q + Q.transpose());
-  Vector6d d_bias_body;
-  d_bias_body << in.d_bias.x(), in.d_bias.y(), 0.0, 0.0, 0.0, in.d_bias.z();
-  out.du_dbias = J * d_bias_body;
-  Vector6d d_scale_body;
-  d_scale_body << in.d_scale.x(), in.d_scale.y(), 0.0, 0.0, 0.0, in.d_scale.z();
-  out.du_dscale = J * d_scale_body;
-  Vector6d d_drift_body;
-  d_drift_body << in.d_drift.x(), in.d_drift.y(), 0.0, 0.0, 0.0, in.d_drift.z();
-  out.du_ddrift = J * d_drift_body;
-  out.wheel_gyro_mismatch = in.mismatch;
   out.distance_m = in.distance;
   out.dt_s = dt_s;
   out.gyro_used = in.gyro_used;

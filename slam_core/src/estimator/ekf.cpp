@@ -71,14 +71,7 @@ const char* to_string(ObservationResult r) {
 Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
     : config_(config),
       camera_(calibration.camera),
-      max_slots_(std::clamp(config.max_landmarks, 0, hal::kMaxLandmarks)),
-      first_slot_(config.gyro_bias_state || config.distance_scale_state || config.wheel_drift_state
-                      ? 1
-                      : 0),
-      bias_std0_(config.gyro_bias_state ? calibration.gyro.bias_instability : 0.0),
-      scale_std0_(!config.distance_scale_state           ? 0.0
-                  : calibration.wheels.scale_error > 0.0 ? calibration.wheels.scale_error
-                                                         : calibration.wheels.distance_noise) {
+      max_slots_(std::clamp(config.max_landmarks, 0, hal::kMaxLandmarks)) {
   x_.setZero(kMaxStateDim);
   P_.setZero(kMaxStateDim, kMaxStateDim);
   nu_.setZero(kMaxMeasDim);
@@ -114,13 +107,7 @@ void Ekf::start(const Vector6d& camera_pose, const Matrix6d& P0s) {
   used_.fill(false);
   info_.fill(SlotInfo{});
   landmark_count_ = 0;
-  active_dim_ = row_of(first_slot_);
-  if (first_slot_ > 0) {
-    P_(kBiasRow, kBiasRow) = bias_std0_ * bias_std0_;
-    P_(kScaleRow, kScaleRow) = scale_std0_ * scale_std0_;
-    const double c0 = config_.wheel_drift_state ? config_.wheel_drift_std_rad_per_m : 0.0;
-    P_(kDriftRow, kDriftRow) = c0 * c0;
-  }
+  active_dim_ = kPose;
   update_counter_ = 0;
   last_motion_w_.setZero();
   status_ = UpdateStatus{};
@@ -129,12 +116,6 @@ void Ekf::start(const Vector6d& camera_pose, const Matrix6d& P0s) {
 }
 
 bool Ekf::posterior_variance_ok(int i, double d) const {
-  if (i >= kPose && i < row_of(first_slot_)) {
-    const bool enabled = (i == kBiasRow && config_.gyro_bias_state) ||
-                         (i == kScaleRow && config_.distance_scale_state) ||
-                         (i == kDriftRow && config_.wheel_drift_state);
-    return !enabled || (d >= 0.0 && std::isfinite(d));
-  }
   if (i >= kPose && !used_[static_cast<std::size_t>((i - kPose) / hal::kLandmarkDim)]) {
     return true;
   }
@@ -213,7 +194,7 @@ void Ekf::recompute_active_dim() {
       highest = i;
     }
   }
-  active_dim_ = row_of(std::max(highest + 1, first_slot_));
+  active_dim_ = row_of(highest + 1);
 }
 
 PredictStatus Ekf::predict(const OdometryIncrement& u) {
@@ -226,8 +207,7 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
     ++counters_.predictions_rejected;
     return status;
   };
-  if (!u.dx_c.allFinite() || !u.dpsi_c.allFinite() || !Q.allFinite() || !u.du_dbias.allFinite() ||
-      !u.du_dscale.allFinite() || !u.du_ddrift.allFinite() || !std::isfinite(u.dt_s)) {
+  if (!u.dx_c.allFinite() || !u.dpsi_c.allFinite() || !Q.allFinite() || !std::isfinite(u.dt_s)) {
     return reject(PredictResult::kNonFinite);
   }
   if (std::abs(x_(4)) > config_.max_abs_pitch_rad) {
@@ -237,16 +217,8 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
     return reject(PredictResult::kNotPositiveDefinite);
   }
   const Vector6d pose = x_.head<6>();
-  const bool odometry_states = first_slot_ > 0;
-  // With the odometry error states e = (gyro bias b, distance scale s, wheel drift c), the
-  // increment is u + du/de e and d pose / d e = G du/de.
-  Eigen::Matrix<double, 6, 3> du_de;
-  du_de << u.du_dbias, u.du_dscale, u.du_ddrift;
   Vector6d ub;
   ub << u.dx_c, u.dpsi_c;
-  if (odometry_states) {
-    ub += du_de * x_.segment<3>(kBiasRow);
-  }
   Matrix6d F;
   Matrix6d G;
   prediction_jacobians(pose, ub.head<3>(), ub.tail<3>(), F, G);
@@ -254,33 +226,17 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
 
   const Matrix6d Pxx = P_.topLeftCorner<6, 6>();
   Matrix6d Pn = F * Pxx * F.transpose() + G * Q * G.transpose();  // eq. 7
-  Eigen::Matrix<double, 6, 3> Fe = Eigen::Matrix<double, 6, 3>::Zero();
-  if (odometry_states) {
-    Fe = G * du_de;
-    const Eigen::Matrix<double, 6, 3> FPxe = F * P_.block<6, 3>(0, kBiasRow);
-    Pn += FPxe * Fe.transpose() + Fe * FPxe.transpose() +
-          Fe * P_.block<3, 3>(kBiasRow, kBiasRow) * Fe.transpose();
-  }
   const int nl = active_dim_ - kPose;
   cross_.resize(6, nl);
   if (nl > 0) {  // eq. 8
     cross_.noalias() = F.lazyProduct(P_.block(0, kPose, 6, nl));
-    if (odometry_states) {
-      cross_.noalias() += Fe.lazyProduct(P_.block(kBiasRow, kPose, 3, nl));
-    }
   }
-  const double bias_walk_var =
-      odometry_states && config_.gyro_bias_state
-          ? config_.gyro_bias_walk * config_.gyro_bias_walk * std::abs(u.dt_s)
-          : 0.0;
   // A finite increment can still overflow (an increment of 1e300 m): nothing is changed then.
   // So can one of 1e6 m or a variance of 1e12 m^2 leave the range (kMaxAbsState, kMaxVariance).
-  if (!predicted.allFinite() || !Pn.allFinite() || !cross_.allFinite() ||
-      !std::isfinite(bias_walk_var)) {
+  if (!predicted.allFinite() || !Pn.allFinite() || !cross_.allFinite()) {
     return reject(PredictResult::kNonFinite);
   }
-  if (predicted.cwiseAbs().maxCoeff() > kMaxAbsState || Pn.diagonal().maxCoeff() > kMaxVariance ||
-      P_(kBiasRow, kBiasRow) + bias_walk_var > kMaxVariance) {
+  if (predicted.cwiseAbs().maxCoeff() > kMaxAbsState || Pn.diagonal().maxCoeff() > kMaxVariance) {
     return reject(PredictResult::kOutOfRange);
   }
   // Semi-definite P and Q predict a semi-definite P; what rounding of extreme inputs leaves
@@ -298,20 +254,17 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
     P_.block(kPose, 0, nl, 6) = cross_.transpose();
   }
   P_.topLeftCorner<6, 6>() = Pn;
-  if (odometry_states && config_.gyro_bias_state) {
-    P_(kBiasRow, kBiasRow) += bias_walk_var;
-  }
   return status;
 }
 
 int Ekf::take_slot() {
-  for (int i = first_slot_; i < max_slots_; ++i) {
+  for (int i = 0; i < max_slots_; ++i) {
     if (!used_[static_cast<std::size_t>(i)]) {
       return i;
     }
   }
   int victim = -1;
-  for (int i = first_slot_; i < max_slots_; ++i) {
+  for (int i = 0; i < max_slots_; ++i) {
     const SlotInfo& s = info_[static_cast<std::size_t>(i)];
     if (victim < 0) {
       victim = i;

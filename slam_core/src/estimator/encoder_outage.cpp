@@ -54,7 +54,7 @@ void DeadReckoner::coast(hal::TimeNs t_ns) {
     const double sr = config_.outage_yaw_rate_std_rad_s;
     yaw_var = sr * sr * tau * dt;
   }
-  step(distance, dyaw, yaw_var, dt, gyro, 0.0, 1.0, 0.0, distance_var);
+  step(distance, dyaw, yaw_var, dt, gyro, 0.0, 1.0, distance_var);
   seg_t_ = t_ns;
 }
 

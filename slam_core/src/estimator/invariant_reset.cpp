@@ -17,7 +17,7 @@ void Ekf::begin_invariant_reset(int n, const Eigen::Ref<const Eigen::VectorXd>& 
   reset_v_.setZero(n);
   reset_v_(0) = -dx(1);
   reset_v_(1) = dx(0);
-  for (int s = first_slot_; s < hal::kMaxLandmarks; ++s) {
+  for (int s = 0; s < hal::kMaxLandmarks; ++s) {
     const int r = row_of(s);
     if (r + 2 >= n) {
       break;

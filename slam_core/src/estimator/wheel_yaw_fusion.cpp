@@ -88,40 +88,6 @@ WheelYawFusion::Fused WheelYawFusion::fuse(const Reading& r) {
   return out;
 }
 
-WheelYawFusion::StateFused WheelYawFusion::fused_for_state(const Reading& r,
-                                                           const StateEstimates& e) const {
-  StateFused out;
-  out.yaw = r.gyro_yaw;
-  out.variance = r.gyro_var;
-  out.gyro_weight = 1.0;
-  if (!usable(r) || !std::isfinite(e.bias) || !std::isfinite(e.drift) || !(e.bias_var >= 0.0) ||
-      !(e.drift_var >= 0.0)) {
-    return out;
-  }
-  const double s = p_(1);
-  const double wheel_ref = (1.0 + s) * r.wheel_yaw;
-  const double gyro_var = r.gyro_var + r.dt * r.dt * e.bias_var;
-  const double wheel_noise_var = (1.0 + s) * (1.0 + s) * r.wheel_var;
-  const double scale_var = r.wheel_yaw * r.wheel_yaw * P_(1, 1);
-  const double wheel_var = wheel_noise_var + scale_var + r.distance * r.distance * e.drift_var;
-  const double total = gyro_var + wheel_var;
-  const double mismatch = (r.gyro_yaw - e.bias * r.dt) - (wheel_ref - e.drift * r.distance);
-  if (!(total > 0.0) || mismatch * mismatch > config_.gate_chi2 * total) {
-    return out;
-  }
-  out.fused = true;
-  out.gyro_weight = wheel_var / total;
-  const double wheel_weight = 1.0 - out.gyro_weight;
-  out.yaw = out.gyro_weight * r.gyro_yaw + wheel_weight * wheel_ref;
-  out.drift_weight = -wheel_weight * r.distance;
-  const double intervals = correlation_intervals(r.dt);
-  out.variance = out.gyro_weight * out.gyro_weight * r.gyro_var +
-                 wheel_weight * wheel_weight * (wheel_noise_var + intervals * scale_var);
-  out.mismatch = r.gyro_yaw - wheel_ref;
-  out.mismatch_variance = r.gyro_var + wheel_noise_var;
-  return out;
-}
-
 double WheelYawFusion::window_variance(const Eigen::Vector3d& PH) const {
   const double s = p_(1);
   return sum_h_.dot(PH) + sum_gyro_var_ + (1.0 + s) * (1.0 + s) * sum_wheel_var_;

@@ -12,16 +12,8 @@ namespace lf = hal::log;
 
 namespace {
 
-// The settings that follow others (derive_dependent_settings); the calibration's gyro errors as
-// lower bounds (SlamConfig::gyro_errors_from_calibration); the front end works on the calibrated
-// image size.
+// The front end works on the calibrated image size.
 SlamConfig resolved(const hal::Calibration& calibration, SlamConfig c) {
-  derive_dependent_settings(c);
-  if (c.gyro_errors_from_calibration) {
-    c.filter.gyro_bias_walk = std::max(c.filter.gyro_bias_walk, calibration.gyro.bias_walk);
-    c.odometry.gyro_scale_error =
-        std::max(c.odometry.gyro_scale_error, calibration.gyro.scale_error);
-  }
   c.frontend.width = calibration.camera.width;
   c.frontend.height = calibration.camera.height;
   return c;
@@ -41,16 +33,6 @@ SlamSystem::SlamSystem(const hal::Calibration& calibration, const SlamConfig& co
       camera_offset_ns_(hal::from_seconds(calibration.camera.time_offset_s)),
       relocalizer_(ekf_.camera(), config_.relocalizer) {
   ekf_.set_update_step(config_.update_work_step);
-  share_wheel_state();
-}
-
-void SlamSystem::share_wheel_state() {
-  WheelYawFusion::StateEstimates e;
-  e.bias = ekf_.gyro_bias();
-  e.bias_var = ekf_.gyro_bias_variance();
-  e.drift = ekf_.wheel_drift();
-  e.drift_var = ekf_.wheel_drift_variance();
-  dr_.set_wheel_state(e);
 }
 
 void SlamSystem::reset() {
@@ -60,7 +42,6 @@ void SlamSystem::reset() {
   // Always taken: the configuration's camera mount is checked (hal::camera_mount_error) to lie
   // within 10 m of the body's origin, far inside the filter's range.
   static_cast<void>(ekf_.reset(cam, Matrix6d::Identity() * 1e-10));
-  share_wheel_state();
   map_.forget();
   pipeline_->forget_map();
   predicted_to_ns_ = -1;
@@ -77,36 +58,8 @@ void SlamSystem::predict(hal::TimeNs t_ns) {
   }
   const OdometryIncrement u = dr_.take_increment(t_ns);
   ekf_.predict(u);
-  if (config_.filter.wheel_drift_state) {
-    ekf_.fuse_wheel_gyro_mismatch(u.wheel_gyro_mismatch, config_.odometry.wheel_yaw.gate_chi2);
-    share_wheel_state();
-    record_mismatch(t_ns);
-  }
   predicted_to_ns_ = t_ns;
   check_position_std();
-}
-
-void SlamSystem::record_mismatch(hal::TimeNs t_ns) {
-  const MismatchStatus& m = ekf_.last_mismatch();
-  fusion_record_count_ = std::min(m.count, static_cast<int>(fusion_records_.size()));
-  for (int i = 0; i < fusion_record_count_; ++i) {
-    const ScalarFusionStatus& st = m.updates[static_cast<std::size_t>(i)];
-    lf::FusionRecord& r = fusion_records_[static_cast<std::size_t>(i)];
-    r.t_ns = t_ns;
-    r.source = lf::FusionSource::kWheelGyroMismatch;
-    r.index = static_cast<std::uint8_t>(i);
-    r.fused = st.fused;
-    r.innovation = st.innovation;
-    r.innovation_variance = st.innovation_variance;
-    r.test_ratio = st.test_ratio;
-  }
-}
-
-int SlamSystem::take_fusion_records(const lf::FusionRecord*& records) {
-  records = fusion_records_.data();
-  const int n = fusion_record_count_;
-  fusion_record_count_ = 0;
-  return n;
 }
 
 void SlamSystem::begin_frame(const hal::CameraFrame& frame) {

@@ -144,26 +144,19 @@ TEST(Config, AMissingFileIsAnErrorNamingIt) {
 
 TEST(Config, SparseOdometryKeysParseAndAreRangeChecked) {
   const ConfigResult r = parse_config(
-      "filter:\n  gyro_bias_state: true\n  gyro_bias_walk: 0.0005\n"
-      "  hold_heading_when_still: false\n"
-      "  distance_scale_state: true\n  second_order_yaw: true\n",
-      "s.yaml", {});
+      "filter:\n  hold_heading_when_still: false\n  second_order_yaw: true\n", "s.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_TRUE(r.config.slam.filter.gyro_bias_state);
-  EXPECT_EQ(r.config.slam.filter.gyro_bias_walk, 0.0005);
   EXPECT_FALSE(r.config.slam.odometry.hold_heading_when_still);
-  EXPECT_TRUE(r.config.slam.filter.distance_scale_state);
   EXPECT_TRUE(r.config.slam.filter.second_order_yaw);
   const FirmwareConfig defaults;
   EXPECT_TRUE(defaults.slam.odometry.hold_heading_when_still);
-  EXPECT_FALSE(defaults.slam.filter.gyro_bias_state || defaults.slam.filter.distance_scale_state ||
-               defaults.slam.filter.second_order_yaw);
-  const ConfigResult bad =
-      parse_config("filter:\n  gyro_bias_walk: -1\n  gyro_bias_state: maybe\n", "b.yaml", {});
+  EXPECT_FALSE(defaults.slam.filter.second_order_yaw);
+  const ConfigResult bad = parse_config(
+      "filter:\n  hold_heading_when_still: maybe\n  second_order_yaw: 3\n", "b.yaml", {});
   ASSERT_EQ(bad.errors.size(), 2U) << joined(bad.errors);
   const std::string all = joined(bad.errors);
-  EXPECT_NE(all.find("b.yaml:2: filter.gyro_bias_walk"), std::string::npos) << all;
-  EXPECT_NE(all.find("b.yaml:3: filter.gyro_bias_state"), std::string::npos) << all;
+  EXPECT_NE(all.find("b.yaml:2: filter.hold_heading_when_still"), std::string::npos) << all;
+  EXPECT_NE(all.find("b.yaml:3: filter.second_order_yaw"), std::string::npos) << all;
 }
 
 TEST(Config, RemapKeysParseAndAreRangeChecked) {
@@ -204,23 +197,17 @@ TEST(Config, InvariantResetIsOnByDefaultAndParses) {
       << joined(bad.errors);
 }
 
-TEST(Config, GyroErrorsFromCalibrationKeysParseAndAreRangeChecked) {
+TEST(Config, CalibrationGyroErrorKeysParseAndAreRangeChecked) {
   const ConfigResult r = parse_config(
-      "calibration:\n  gyro:\n    scale_error: 0.02\n    bias_walk: 0.0005\n"
-      "filter:\n  gyro_errors_from_calibration: true\n",
-      "g.yaml", {});
+      "calibration:\n  gyro:\n    scale_error: 0.02\n    bias_walk: 0.0005\n", "g.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
   EXPECT_EQ(r.config.calibration.gyro.scale_error, 0.02);
   EXPECT_EQ(r.config.calibration.gyro.bias_walk, 0.0005);
-  EXPECT_TRUE(r.config.gyro_errors_from_calibration);
-  EXPECT_FALSE(FirmwareConfig{}.gyro_errors_from_calibration);
-  const ConfigResult bad = parse_config(
-      "calibration:\n  gyro:\n    scale_error: 2\nfilter:\n  gyro_errors_from_calibration: 3\n",
-      "h.yaml", {});
-  ASSERT_EQ(bad.errors.size(), 2U) << joined(bad.errors);
-  const std::string all = joined(bad.errors);
-  EXPECT_NE(all.find("h.yaml:3: calibration.gyro.scale_error"), std::string::npos) << all;
-  EXPECT_NE(all.find("h.yaml:5: filter.gyro_errors_from_calibration"), std::string::npos) << all;
+  const ConfigResult bad =
+      parse_config("calibration:\n  gyro:\n    scale_error: 2\n", "h.yaml", {});
+  ASSERT_EQ(bad.errors.size(), 1U) << joined(bad.errors);
+  EXPECT_NE(bad.errors[0].find("h.yaml:3: calibration.gyro.scale_error"), std::string::npos)
+      << bad.errors[0];
 }
 
 TEST(Config, WheelYawFusionKeysParseAndAreRangeChecked) {
@@ -249,21 +236,21 @@ TEST(Config, WheelYawFusionKeysParseAndAreRangeChecked) {
   EXPECT_NE(all.find("x.yaml:4: filter.wheel_yaw_correlation_time_s"), std::string::npos) << all;
 }
 
-TEST(Config, WheelDriftStateNeedsTheHeadingFusionAndTheGyroBiasState) {
-  EXPECT_FALSE(FirmwareConfig{}.slam.filter.wheel_drift_state);
-  const ConfigResult r =
-      parse_config("filter:\n  gyro_bias_state: true\n  wheel_drift_state: true\n", "d.yaml", {});
-  ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_TRUE(r.config.slam.filter.wheel_drift_state);
-  const ConfigResult bad = parse_config(
-      "filter:\n  wheel_yaw_fusion: false\n  gyro_bias_state: true\n  wheel_drift_state: true\n",
-      "e.yaml", {});
-  ASSERT_EQ(bad.errors.size(), 1U) << joined(bad.errors);
-  EXPECT_NE(bad.errors[0].find("e.yaml:4: filter.wheel_drift_state"), std::string::npos)
-      << bad.errors[0];
-  EXPECT_NE(bad.errors[0].find("gyro_bias_state"), std::string::npos) << bad.errors[0];
-  const ConfigResult no_bias = parse_config("filter:\n  wheel_drift_state: true\n", "f.yaml", {});
-  EXPECT_EQ(no_bias.errors.size(), 1U) << joined(no_bias.errors);
+// The estimator's switches measured and removed (docs/experiments.md) are unknown keys now: a
+// configuration that still sets one is an error naming it, with the nearest key.
+TEST(Config, RemovedEstimatorSwitchesAreUnknownKeys) {
+  for (const char* key : {"gyro_bias_state", "gyro_bias_walk", "distance_scale_state",
+                          "wheel_drift_state", "gyro_errors_from_calibration"}) {
+    const ConfigResult r =
+        parse_config(std::string("filter:\n  ") + key + ": false\n", "old.yaml", {});
+    ASSERT_EQ(r.errors.size(), 1U) << key << "\n" << joined(r.errors);
+    EXPECT_NE(r.errors[0].find(std::string("old.yaml:2: filter.") + key), std::string::npos)
+        << r.errors[0];
+    EXPECT_NE(r.errors[0].find("unknown"), std::string::npos) << r.errors[0];
+  }
+  const ConfigResult sink = parse_config("sinks:\n  fusion: \"f.csv\"\n", "old.yaml", {});
+  ASSERT_EQ(sink.errors.size(), 1U) << joined(sink.errors);
+  EXPECT_NE(sink.errors[0].find("old.yaml:2: sinks.fusion"), std::string::npos) << sink.errors[0];
 }
 
 }  // namespace
@@ -306,10 +293,7 @@ TEST(ParameterConfig, EveryTableKeyIsSetByItsConfigurationKey) {
                                                : p.lo + 1.0;
     ASSERT_TRUE(slam_core::parameter_in_range(p, v)) << p.key;
     const std::string set = std::string(p.key) + "=" + value_text(slam_core::parameter_type(p), v);
-    // The wheels' drift state needs the gyro bias state.
-    const std::string needed = p.key == "filter.wheel_drift_state" ? "filter.gyro_bias_state=true"
-                                                                   : "loop.frame_rate_hz=2";
-    const ConfigResult r = parse_config("", "t.yaml", {set, needed});
+    const ConfigResult r = parse_config("", "t.yaml", {set, "loop.frame_rate_hz=2"});
     ASSERT_TRUE(r.ok()) << set << "\n" << joined(r.errors);
     EXPECT_TRUE(r.warnings.empty()) << joined(r.warnings);
     EXPECT_EQ(slam_core::get_parameter(p, r.config.slam),
@@ -346,13 +330,6 @@ TEST(ParameterConfig, EveryTableKeyIsSetByItsConfigurationKey) {
       EXPECT_NE(bad.errors[0].find("out of range"), std::string::npos) << bad.errors[0];
       EXPECT_EQ(slam_core::get_parameter(p, bad.config.slam), slam_core::stored_default(p));
     }
-  }
-}
-
-TEST(ParameterConfig, TheFirmwaresKeysDefaultsAreTheListedOnes) {
-  const FirmwareConfig defaults{};
-  for (const auto& p : firmware::firmware_filter_parameters()) {
-    EXPECT_EQ(slam_core::get_parameter(p, defaults), slam_core::stored_default(p)) << p.key;
   }
 }
 

@@ -59,35 +59,7 @@ TEST(LogFormat, PayloadSizesMatchTheEncoders) {
             lf::kPosePayload);
   EXPECT_EQ(size_of([](lf::ByteWriter& w) { lf::encode(w, lf::UpdateRecord{}); }),
             lf::kUpdatePayload);
-  EXPECT_EQ(size_of([](lf::ByteWriter& w) { lf::encode(w, lf::FusionRecord{}); }),
-            lf::kFusionPayload);
   EXPECT_EQ(size_of([](lf::ByteWriter& w) { lf::encode_lift(w, 5, true); }), lf::kLiftPayload);
-}
-
-TEST(LogFormat, FusionRecordsDecodeAsEncoded) {
-  lf::FusionRecord f;
-  f.t_ns = 123456789012;
-  f.index = 1;
-  f.fused = true;
-  f.innovation = -1.25;
-  f.innovation_variance = 1.0625;
-  f.test_ratio = 1.470588;
-  std::vector<std::uint8_t> buf(lf::kFusionPayload);
-  lf::ByteWriter w(buf.data(), buf.size());
-  lf::encode(w, f);
-  ASSERT_TRUE(w.ok());
-  lf::ByteReader r(buf.data(), buf.size());
-  lf::FusionRecord g;
-  ASSERT_TRUE(lf::decode(r, g));
-  EXPECT_EQ(g.t_ns, f.t_ns);
-  EXPECT_EQ(g.source, lf::FusionSource::kWheelGyroMismatch);
-  EXPECT_EQ(g.index, 1);
-  EXPECT_TRUE(g.fused);
-  EXPECT_EQ(g.innovation, f.innovation);
-  EXPECT_EQ(g.innovation_variance, f.innovation_variance);
-  EXPECT_EQ(g.test_ratio, f.test_ratio);
-  EXPECT_TRUE(lf::is_output(lf::RecordType::kFusion));
-  EXPECT_FALSE(lf::is_input(lf::RecordType::kFusion));
 }
 
 TEST(LogFormat, WriterRefusesToOverflow) {

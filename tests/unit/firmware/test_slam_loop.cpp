@@ -103,16 +103,8 @@ namespace {
 
 struct CountingByStatus : firmware::UpdateSink {
   std::array<std::uint64_t, hal::log::kUpdateStatusCount> n{};
-  std::uint64_t fusions = 0;
-  std::uint64_t fusions_fused = 0;
-  hal::log::FusionRecord last_fusion;
   void update(const hal::log::UpdateRecord& r) override {
     ++n.at(static_cast<std::size_t>(r.status));
-  }
-  void fusion(const hal::log::FusionRecord& r) override {
-    ++fusions;
-    fusions_fused += r.fused ? 1 : 0;
-    last_fusion = r;
   }
 };
 
@@ -132,46 +124,35 @@ struct CountedRun {
 
 }  // namespace
 
-// With the defaults, and with the drift state whose fusion records pass through the loop.
 TEST(SlamLoop, NoHeapAllocationAfterStartupWithTheEkf) {
-  for (const bool drift : {false, true}) {
-    SCOPED_TRACE(drift ? "wheel drift state" : "defaults");
-    SimulatedRun run(60.0);
-    ASSERT_TRUE(run.ok);
-    FirmwareConfig config;
-    config.calibration = run.calibration;
-    config.slam.filter.gyro_bias_state = drift;
-    config.slam.filter.wheel_drift_state = drift;
-    SlamEstimator estimator(config);
-    Loop loop(config.loop, estimator);
-    test::CollectingSink sink;
-    CountingByStatus counting;
-    loop.add_source(&run.source);
-    loop.add_pose_sink(&sink);
-    loop.add_update_sink(&counting);
-    const hal::TimeNs t0 = run.source.items.front().due;
-    const hal::TimeNs t1 = run.source.items.back().due;
-    loop.start(t0);
-    std::size_t allocations = 0;
-    {
-      test::AllocationScope scope;
-      for (hal::TimeNs t = t0; t <= t1 + hal::kNsPerSecond; t += 5 * hal::kNsPerMillisecond) {
-        loop.iterate(t);
-      }
-      allocations = scope.count();
+  SimulatedRun run(60.0);
+  ASSERT_TRUE(run.ok);
+  FirmwareConfig config;
+  config.calibration = run.calibration;
+  SlamEstimator estimator(config);
+  Loop loop(config.loop, estimator);
+  test::CollectingSink sink;
+  CountingByStatus counting;
+  loop.add_source(&run.source);
+  loop.add_pose_sink(&sink);
+  loop.add_update_sink(&counting);
+  const hal::TimeNs t0 = run.source.items.front().due;
+  const hal::TimeNs t1 = run.source.items.back().due;
+  loop.start(t0);
+  std::size_t allocations = 0;
+  {
+    test::AllocationScope scope;
+    for (hal::TimeNs t = t0; t <= t1 + hal::kNsPerSecond; t += 5 * hal::kNsPerMillisecond) {
+      loop.iterate(t);
     }
-    loop.finish();
-    EXPECT_EQ(allocations, 0U);
-    EXPECT_GT(loop.stats().frames_done, 50U);
-    EXPECT_GT(loop.stats().update_records, 200U);
-    EXPECT_GT(estimator.ekf().landmark_count(), 5);
-    EXPECT_EQ(loop.stats().rejects.total(), 0U);
-    if (drift) {
-      EXPECT_GT(counting.fusions, 1000U);  // 20 Hz over 60 s
-    } else {
-      EXPECT_EQ(counting.fusions, 0U);
-    }
+    allocations = scope.count();
   }
+  loop.finish();
+  EXPECT_EQ(allocations, 0U);
+  EXPECT_GT(loop.stats().frames_done, 50U);
+  EXPECT_GT(loop.stats().update_records, 200U);
+  EXPECT_GT(estimator.ekf().landmark_count(), 5);
+  EXPECT_EQ(loop.stats().rejects.total(), 0U);
 }
 
 // Rendered images through the front end's frame pipeline: a frame takes several loop iterations
@@ -238,8 +219,7 @@ TEST(SlamLoop, SummaryCountsTheMapsChangesAndTheRecords) {
                             std::to_string(w.windows_gated) + " taken back to the gyro\n";
   EXPECT_NE(text.find("cleanslam: wheel heading: scale "), std::string::npos) << text;
   EXPECT_NE(text.find(fused), std::string::npos) << text;
-  ASSERT_GT(counting.n[0], 0U);     // updated
-  EXPECT_EQ(counting.fusions, 0U);  // no odometry fusion without the drift state
+  ASSERT_GT(counting.n[0], 0U);  // updated
   EXPECT_EQ(loop.stats().records_by_status, counting.n);
   std::string by_status = "cleanslam: update records by status:";
   const char* separator = " ";
@@ -254,48 +234,6 @@ TEST(SlamLoop, SummaryCountsTheMapsChangesAndTheRecords) {
   }
   by_status.push_back('\n');
   EXPECT_NE(text.find(by_status), std::string::npos) << text;
-}
-
-// With the wheel drift state the filter learns the drift and the gyro bias from the two turns'
-// differences at every prediction, the sinks get one record per scalar update, and the summary
-// says so.
-TEST(SlamLoop, WheelDriftStateLearnsFromEveryPredictionAndIsRecordedAndSummarized) {
-  SimulatedRun run(30.0);
-  ASSERT_TRUE(run.ok);
-  FirmwareConfig config;
-  config.calibration = run.calibration;
-  config.slam.filter.gyro_bias_state = true;
-  config.slam.filter.wheel_drift_state = true;
-  CountedRun counted(run, config);
-  const SlamEstimator& estimator = counted.estimator;
-  const Loop& loop = counted.loop;
-  const CountingByStatus& counting = counted.counting;
-  firmware::WheelYawReport w;
-  ASSERT_TRUE(estimator.wheel_yaw(w));
-  ASSERT_TRUE(w.drift_state);
-  EXPECT_GT(w.mismatches_fused, 400U);  // 20 Hz encoder intervals over 30 s, in the increments
-  EXPECT_LT(w.state_drift_std, 0.5 * config.slam.odometry.wheel_yaw.drift_std_rad_per_m);
-  EXPECT_TRUE(std::isfinite(w.state_drift_rad_per_m));
-  // Each fusion fused at least one scalar update, each gated one refused all (at most two).
-  EXPECT_EQ(loop.stats().fusion_records, counting.fusions);
-  EXPECT_GE(counting.fusions_fused, w.mismatches_fused);
-  EXPECT_LE(counting.fusions, 2 * (w.mismatches_fused + w.mismatches_gated));
-  // The last record is the filter's last scalar update.
-  const auto& m = estimator.ekf().last_mismatch();
-  ASSERT_GT(m.count, 0);
-  const auto& u = m.updates[static_cast<std::size_t>(m.count - 1)];
-  EXPECT_EQ(counting.last_fusion.index, m.count - 1);
-  EXPECT_EQ(counting.last_fusion.innovation, u.innovation);
-  EXPECT_EQ(counting.last_fusion.innovation_variance, u.innovation_variance);
-  EXPECT_EQ(counting.last_fusion.test_ratio, u.test_ratio);
-  EXPECT_EQ(counting.last_fusion.fused, u.fused);
-  EXPECT_GT(u.innovation_variance, 1.0);  // the whitened noise plus the state's uncertainty
-  const std::string text = summary_text(loop);
-  ASSERT_FALSE(text.empty());
-  const std::string counts = std::to_string(w.mismatches_fused) + " turn differences fused, " +
-                             std::to_string(w.mismatches_gated) + " gated\n";
-  EXPECT_NE(text.find("cleanslam: wheel drift state: "), std::string::npos) << text;
-  EXPECT_NE(text.find(counts), std::string::npos) << text;
 }
 
 // The estimator on the loop is deterministic: two runs, the same poses bit for bit.

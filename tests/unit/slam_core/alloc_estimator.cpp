@@ -103,17 +103,8 @@ struct EkfRun {
       u.dx_c = Eigen::Vector3d(0.05, 0.0, 0.0);
       u.dpsi_c = Eigen::Vector3d(0.0, 0.0, step % 40 < 20 ? 0.02 : -0.02);
       u.Q.diagonal() << 1e-5, 1e-6, 1e-7, 1e-7, 1e-7, 1e-6;
-      u.du_dbias << 0.0, 0.0, 0.0, 0.0, 0.0, -0.5;    // used by the gyro bias state only
-      u.du_dscale << 0.05, 0.0, 0.0, 0.0, 0.0, 0.0;   // used by the distance scale state only
-      u.du_ddrift << 0.0, 0.0, 0.0, 0.0, 0.0, -0.03;  // used by the wheel drift state only
       u.dt_s = 0.5;
       ekf->predict(u);
-      if (ekf->config().wheel_drift_state) {
-        cs::OdometryIncrement::WheelGyroMismatch mm;
-        mm.add(0.003 * (step % 3 == 0 ? 1.0 : -1.0), 0.05, 0.005, 2e-4);
-        mm.add(0.001, 0.05, 0.0, 1e-4);
-        ekf->fuse_wheel_gyro_mismatch(mm, 16.0);
-      }
       // New landmarks every step: the pool fills and then recycles its least useful slots.
       for (int k = 0; k < 3; ++k) {
         const double uu = 20.0 + static_cast<double>((step * 7 + k * 97) % 280);
@@ -237,41 +228,13 @@ TEST(EstimatorAllocation, EkfWithInvariantResetAllocatesNothing) {
   expect_no_allocation(hal::Calibration{}, config, {0, 20000});
 }
 
-// The three odometry error states with the wheels' and the gyro's turns compared, the
-// second-order yaw terms; chunked (the one-shot path is
-// the same code, run by the test above).
-TEST(EstimatorAllocation, EkfWithTheOdometryErrorStatesAllocatesNothing) {
-  hal::Calibration calibration;
-  calibration.gyro.bias_instability = 0.005;
-  calibration.wheels.scale_error = 0.12;
+// The second-order yaw terms, chunked (the one-shot path is the same code, run by the test above).
+TEST(EstimatorAllocation, EkfWithSecondOrderYawAllocatesNothing) {
   cs::EkfConfig config;
   config.invariant_reset = true;
   config.merge_considers_kept = true;
   config.second_order_yaw = true;
-  config.gyro_bias_state = true;
-  config.gyro_bias_walk = 0.0005;
-  config.distance_scale_state = true;
-  config.wheel_drift_state = true;
-  const auto ekf = expect_no_allocation(calibration, config, {20000});
-  EXPECT_GT(ekf->distance_scale_variance(), 0.0);
-  EXPECT_GT(ekf->counters().wheel_gyro_mismatches_fused, 50U);
-}
-
-TEST(EstimatorAllocation, EkfWithGyroBiasStateAllocatesNothing) {
-  hal::Calibration calibration;
-  calibration.gyro.bias_instability = 0.005;
-  cs::EkfConfig config;
-  config.gyro_bias_state = true;
-  config.gyro_bias_walk = 0.0005;
-  auto ekf = std::make_unique<cs::Ekf>(calibration, config);
-  EXPECT_TRUE(ekf->reset(cs::Vector6d::Zero(), cs::Matrix6d::Identity() * 1e-6));
-  EkfRun run;
-  run.ekf = ekf.get();
-  run_with_small_stack(run);
-  EXPECT_EQ(run.allocations, 0U);
-  EXPECT_GT(run.updates_applied, 50);
-  EXPECT_TRUE(run.finite);
-  EXPECT_GT(ekf->gyro_bias_variance(), 0.0);
+  expect_no_allocation(hal::Calibration{}, config, {20000});
 }
 
 namespace {
@@ -351,24 +314,5 @@ TEST(EstimatorAllocation, DeadReckonerWithWheelYawFusionAllocatesNothing) {
   const cs::WheelYawCounters& k = dr.wheel_yaw_fusion().counters();
   EXPECT_GT(k.windows_used, 5U);
   EXPECT_GT(k.windows_gated + k.intervals_gated, 5U);
-  EXPECT_NEAR(run.distance, 59.503 * 0.2, 1e-3);
-}
-
-TEST(EstimatorAllocation, DeadReckonerWithTheWheelDriftStateAllocatesNothing) {
-  const hal::Calibration calibration;
-  cs::DeadReckoningConfig config;
-  config.wheel_yaw.enabled = true;
-  config.drift_in_state = true;
-  config.bias_in_state = true;
-  cs::DeadReckoner dr(calibration, config);
-  cs::WheelYawFusion::StateEstimates state;
-  state.bias_var = 0.005 * 0.005;
-  state.drift_var = 0.1 * 0.1;
-  dr.set_wheel_state(state);
-  DeadReckonerRun run;
-  run.dr = &dr;
-  run_with_small_stack(run);
-  EXPECT_EQ(run.allocations, 0U);
-  EXPECT_GT(dr.wheel_yaw_fusion().counters().intervals_fused, 100U);
   EXPECT_NEAR(run.distance, 59.503 * 0.2, 1e-3);
 }

@@ -54,8 +54,6 @@ struct Drive {
     }
     const lf::UpdateRecord* r = nullptr;
     records += system->update_records(r);
-    const lf::FusionRecord* fr = nullptr;
-    records += system->take_fusion_records(fr);
   }
 };
 
@@ -65,7 +63,6 @@ cs::SlamConfig config(cs::MapConfig::SetDown on_set_down) {
   c.map.on_set_down = on_set_down;
   c.map.remap_min_yaw_std_deg = 1.0;
   c.map.remap_pixel_std_px = 5.0;
-  c.filter.wheel_drift_state = true;
   return c;
 }
 

@@ -372,7 +372,7 @@ cs::OdometryIncrement increment_with_gyro_offset(const hal::Calibration& cal,
   return dr.take_increment(2030 * kMs);
 }
 
-// A gyro reading b too high is a residual bias b: the true increment is u(b) + du_dbias b.
+// A gyro reading b too high is a residual bias b: the true increment is u(b) + du/db b.
 cs::Vector6d numeric_du_dbias(const hal::Calibration& cal, const cs::DeadReckoningConfig& c) {
   const auto f = [&](const Eigen::Matrix<double, 1, 1>& b) {
     const cs::OdometryIncrement ub = increment_with_gyro_offset(cal, c, b(0));
@@ -385,25 +385,35 @@ cs::Vector6d numeric_du_dbias(const hal::Calibration& cal, const cs::DeadReckoni
 
 }  // namespace
 
-TEST(DeadReckoner, DuDbiasIsTheNumericalDerivativeOfTheIncrementByAGyroOffset) {
-  const hal::Calibration cal;
-  const cs::DeadReckoningConfig c;
-  const cs::OdometryIncrement u = increment_with_gyro_offset(cal, c, 0.0);
+// Q's share of the gyro bias within the increment is bias_instability^2 du/db du/db^T, du/db the
+// increment's numerical derivative by a gyro offset.
+TEST(DeadReckoner, QsGyroBiasTermIsTheNumericalDerivativesOuterProduct) {
+  hal::Calibration cal;
+  cal.gyro.bias_instability = 0.0;
+  const cs::DeadReckoningConfig c = gyro_only();
+  const cs::OdometryIncrement without = increment_with_gyro_offset(cal, c, 0.0);
   const cs::Vector6d numeric = numeric_du_dbias(cal, c);
-  EXPECT_LT((u.du_dbias - numeric).cwiseAbs().maxCoeff(), 1e-6) << u.du_dbias.transpose() << "\n"
-                                                                << numeric.transpose();
-  EXPECT_GT(u.du_dbias.norm(), 1.0);
+  cal.gyro.bias_instability = 0.01;
+  const cs::OdometryIncrement with = increment_with_gyro_offset(cal, c, 0.0);
+  const cs::Matrix6d expected = 0.01 * 0.01 * numeric * numeric.transpose();
+  EXPECT_LT((with.Q - without.Q - expected).cwiseAbs().maxCoeff(), 1e-10)
+      << (with.Q - without.Q) << "\n\n"
+      << expected;
+  EXPECT_GT(numeric.norm(), 1.0);
 }
 
-TEST(DeadReckoner, DuDscaleIsTheNumericalDerivativeOfTheIncrementByAWheelScale) {
-  const hal::Calibration cal;
+// Q's share of the distance scale is distance_noise^2 du/ds du/ds^T, du/ds the increment's
+// numerical derivative by a wheel scale error.
+TEST(DeadReckoner, QsDistanceScaleTermIsTheNumericalDerivativesOuterProduct) {
+  hal::Calibration cal;
   const cs::DeadReckoningConfig c = gyro_only();
   // Wheels that count (1 + s) times the calibrated ticks per metre make the reckoner measure a
-  // distance 1 + s times too short: the true increment is u(s) + du_dscale s.
-  const auto run = [&](double s) {
+  // distance 1 + s times too short: the true increment is u(s) + du/ds s.
+  const auto run = [&](double s, double distance_noise) {
     hal::Calibration believed = cal;
     believed.wheels.ticks_per_meter_left *= 1.0 + s;
     believed.wheels.ticks_per_meter_right *= 1.0 + s;
+    believed.wheels.distance_noise = distance_noise;
     cs::DeadReckoner dr(believed, c);
     Drive drive(dr, cal);
     drive.v = [](double t) { return 0.2 + 0.05 * std::cos(t); };
@@ -413,18 +423,18 @@ TEST(DeadReckoner, DuDscaleIsTheNumericalDerivativeOfTheIncrementByAWheelScale) 
     drive.run_until(2030 * kMs);
     return dr.take_increment(2030 * kMs);
   };
-  const cs::OdometryIncrement u = run(0.0);
   const auto f = [&](const Eigen::Matrix<double, 1, 1>& s) {
-    const cs::OdometryIncrement us = run(s(0));
+    const cs::OdometryIncrement us = run(s(0), 0.0);
     cs::Vector6d out;
     out << us.dx_c, us.dpsi_c;
     return out;
   };
   const cs::Vector6d numeric =
       -cleanslam::test::numeric_jacobian<6, 1>(f, Eigen::Matrix<double, 1, 1>::Zero(), 1e-4);
-  EXPECT_LT((u.du_dscale - numeric).cwiseAbs().maxCoeff(), 2e-5) << u.du_dscale.transpose() << "\n"
-                                                                 << numeric.transpose();
-  EXPECT_GT(u.du_dscale.head<3>().norm(), 0.3);
+  const cs::Matrix6d delta = run(0.0, 0.05).Q - run(0.0, 0.0).Q;
+  const cs::Matrix6d expected = 0.05 * 0.05 * numeric * numeric.transpose();
+  EXPECT_LT((delta - expected).cwiseAbs().maxCoeff(), 1e-9) << delta << "\n\n" << expected;
+  EXPECT_GT(numeric.head<3>().norm(), 0.3);
 }
 
 TEST(DeadReckoner, HoldsTheHeadingWhileTheWheelsStandStill) {
@@ -507,104 +517,4 @@ TEST(DeadReckoner, WheelYawFusionHoldsTheHeadingBetterThanANoisyGyro) {
   const double fused = heading_change_rms(true);
   std::printf("60 s heading change error: gyro %.3f rad, gyro and wheels %.3f rad\n", gyro, fused);
   EXPECT_LT(fused, 0.7 * gyro);
-}
-
-TEST(DeadReckoner, DuDbiasWithWheelYawFusionIsTheNumericalDerivativeByAGyroOffset) {
-  hal::Calibration cal;
-  cal.gyro.noise_density = 0.05;
-  cal.wheels.distance_noise = 0.3;
-  cs::DeadReckoningConfig c = gyro_only();
-  c.wheel_yaw.enabled = true;
-  c.wheel_yaw.window_intervals = 1000000;  // the calibration does not move within the test
-  const cs::OdometryIncrement u = increment_with_gyro_offset(cal, c, 0.0);
-  const cs::Vector6d numeric = numeric_du_dbias(cal, c);
-  EXPECT_LT((u.du_dbias - numeric).cwiseAbs().maxCoeff(), 1e-6) << u.du_dbias.transpose() << "\n"
-                                                                << numeric.transpose();
-  // The wheels carry part of the heading: it is less sensitive to the gyro's bias.
-  const cs::OdometryIncrement g = increment_with_gyro_offset(cal, gyro_only(), 0.0);
-  EXPECT_LT(u.du_dbias.tail<3>().norm(), 0.9 * g.du_dbias.tail<3>().norm());
-  EXPECT_GT(u.du_dbias.tail<3>().norm(), 0.1 * g.du_dbias.tail<3>().norm());
-}
-
-namespace {
-
-// 2.03 s of driving with wheels believed to count 1 + e (left) and 1 - e (right) times too few
-// ticks per metre: the wheels then turn 2 e / wheel_base too far per metre, a wheel drift of
-// c = 2 e / wheel_base that the increment (taken at c = 0) leaves to du_ddrift. Turning, e would
-// also change the measured distance (by e times the turn's wheel travel): `turn` off keeps the
-// drift the only change.
-cs::OdometryIncrement increment_with_wheel_drift(const hal::Calibration& cal, double e,
-                                                 double gyro_bias, bool turn = true) {
-  hal::Calibration believed = cal;
-  believed.wheels.ticks_per_meter_left *= 1.0 + e;
-  believed.wheels.ticks_per_meter_right *= 1.0 - e;
-  cs::DeadReckoningConfig c;
-  c.wheel_yaw.enabled = true;
-  c.wheel_yaw.window_intervals = 1000000;  // the heading scale does not move within the test
-  c.drift_in_state = true;
-  c.bias_in_state = true;
-  cs::DeadReckoner dr(believed, c);
-  cs::WheelYawFusion::StateEstimates state;
-  state.bias_var = 0.005 * 0.005;
-  state.drift_var = 0.05 * 0.05;
-  dr.set_wheel_state(state);
-  Drive drive(dr, cal);
-  drive.v = [](double t) { return 0.2 + 0.05 * std::cos(t); };
-  drive.w = [turn](double t) { return turn ? 0.3 + 0.2 * std::sin(t) : 0.0; };
-  drive.gyro_bias = gyro_bias;
-  drive.run_until(0);
-  dr.take_increment(0);
-  drive.run_until(2030 * kMs);
-  return dr.take_increment(2030 * kMs);
-}
-
-}  // namespace
-
-TEST(DeadReckoner, DuDdriftIsTheNumericalDerivativeOfTheIncrementByAWheelDrift) {
-  hal::Calibration cal;
-  cal.gyro.noise_density = 0.05;
-  cal.wheels.distance_noise = 0.3;
-  const double b = cal.wheels.wheel_base;
-  const cs::OdometryIncrement u = increment_with_wheel_drift(cal, 0.0, 0.0, false);
-  const auto f = [&](const Eigen::Matrix<double, 1, 1>& c) {
-    const cs::OdometryIncrement uc = increment_with_wheel_drift(cal, 0.5 * b * c(0), 0.0, false);
-    cs::Vector6d out;
-    out << uc.dx_c, uc.dpsi_c;
-    return out;
-  };
-  const cs::Vector6d numeric =
-      -cleanslam::test::numeric_jacobian<6, 1>(f, Eigen::Matrix<double, 1, 1>::Zero(), 1e-4);
-  EXPECT_LT((u.du_ddrift - numeric).cwiseAbs().maxCoeff(), 2e-5) << u.du_ddrift.transpose() << "\n"
-                                                                 << numeric.transpose();
-  // The drift moves the heading by the wheels' share of the distance.
-  EXPECT_GT(u.du_ddrift.tail<3>().norm(), 0.1 * u.distance_m);
-  EXPECT_LT(u.du_ddrift.tail<3>().norm(), u.distance_m);
-  // Without the filter's states the increment has no such derivative.
-  const cs::OdometryIncrement g = increment_with_gyro_offset(cal, cs::DeadReckoningConfig{}, 0.0);
-  EXPECT_EQ(g.du_ddrift.norm(), 0.0);
-  EXPECT_EQ(g.wheel_gyro_mismatch.intervals, 0);
-}
-
-TEST(DeadReckoner, WheelGyroMismatchIsTheBiasTimeLessTheDriftDistance) {
-  hal::Calibration cal;
-  cal.gyro.noise_density = 0.05;
-  cal.wheels.distance_noise = 0.3;
-  constexpr double kBias = 0.01;
-  constexpr double kE = 0.02;
-  const double c = 2.0 * kE / cal.wheels.wheel_base;
-  const cs::OdometryIncrement u = increment_with_wheel_drift(cal, kE, kBias);
-  const cs::OdometryIncrement::WheelGyroMismatch& m = u.wheel_gyro_mismatch;
-  ASSERT_EQ(m.intervals, 40);
-  // The information-weighted residual sum h (z - h^T e) / r vanishes at the truth e = (b, c).
-  const Eigen::Vector2d truth(kBias, c);
-  const Eigen::Vector2d at_truth = m.information_vector - m.information * truth;
-  EXPECT_LT(at_truth.norm(), 0.02 * m.information_vector.norm())
-      << at_truth.transpose() << " / " << m.information_vector.transpose();
-  const Eigen::Vector2d other(kBias, 0.0);
-  EXPECT_GT((m.information_vector - m.information * other).norm(),
-            0.3 * m.information_vector.norm());
-  // 40 intervals of 0.05 s: the bias's information is sum dt^2 / r with r at least the gyro's
-  // noise over an interval.
-  EXPECT_GT(m.information(0, 0), 0.0);
-  EXPECT_LT(m.information(0, 0), 40.0 * 0.05 * 0.05 / (0.05 * 0.05 * 0.05));
 }

@@ -71,18 +71,5 @@ TEST(ParameterTable, RangesRejectOutsideNonFiniteAndFractionalIntegers) {
   EXPECT_FALSE(cs::parameter_in_range(*flag, 2.0));
 }
 
-TEST(ParameterTable, DependentSettingsFollowTheirKeys) {
-  cs::SlamConfig c{};
-  c.filter.gyro_bias_state = true;
-  c.filter.distance_scale_state = true;
-  c.filter.wheel_drift_state = true;
-  c.odometry.wheel_yaw.drift_std_rad_per_m = 0.25;
-  cs::derive_dependent_settings(c);
-  EXPECT_TRUE(c.odometry.bias_in_state);
-  EXPECT_TRUE(c.odometry.scale_in_state);
-  EXPECT_TRUE(c.odometry.drift_in_state);
-  EXPECT_EQ(c.filter.wheel_drift_std_rad_per_m, 0.25);
-}
-
 }  // namespace
 }  // namespace cleanslam

@@ -26,7 +26,6 @@ struct SourceSettings {
 struct SinkSettings {
   std::string tum_path;                // TUM trajectory file; empty: none
   std::string diagnostics_path;        // per-update records (CSV); empty: none
-  std::string fusion_path;             // odometry fusions' records (CSV); empty: none
   bool can = false;                    // CAN pose frame through the driver
   std::string can_interface = "can0";  // pose frames 0x201/0x202 of docs/can.md
 };
@@ -45,9 +44,6 @@ struct FirmwareConfig {
   bool calibration_from_dataset = true;  // a dataset source brings its own sensors.yaml
   // The estimator: the keys of slam_core::slam_parameters() (sections filter and frontend).
   slam_core::SlamConfig slam;
-  // filter.gyro_errors_from_calibration: the filter's gyro_scale_error and gyro_bias_walk at least
-  // the calibration's gyro.scale_error and gyro.bias_walk.
-  bool gyro_errors_from_calibration = false;
   LoopOptions loop;
   SourceSettings source;
   SinkSettings sinks;
@@ -71,8 +67,5 @@ ConfigResult parse_config(const std::string& text, const std::string& file_name,
 std::string config_text(const FirmwareConfig& config);
 // firmware/config/cleanslam.sample.yaml: every key with its default, range and meaning.
 std::string sample_config_text();
-
-// The firmware's own keys in the estimator's sections, described like slam_core's.
-std::span<const slam_core::Parameter<FirmwareConfig>> firmware_filter_parameters();
 
 }  // namespace cleanslam::firmware

@@ -49,15 +49,6 @@ struct WheelYawReport {
   std::uint64_t intervals_gated = 0;
   std::uint64_t windows_used = 0;
   std::uint64_t windows_gated = 0;
-  // The filter's own gyro bias and wheel drift (filter.wheel_drift_state): learnt from the two
-  // turns' differences and from the camera.
-  bool drift_state = false;
-  double state_drift_rad_per_m = 0.0;
-  double state_drift_std = 0.0;
-  double state_gyro_bias_rad_s = 0.0;
-  double state_gyro_bias_std = 0.0;
-  std::uint64_t mismatches_fused = 0;
-  std::uint64_t mismatches_gated = 0;
 };
 
 // What the loop drives: dead reckoning, the EKF and the frame pipeline. The loop validates the
@@ -81,12 +72,6 @@ class Estimator {
   virtual bool step_frame(int& budget) = 0;
   // Per-observation records of the last finished frame.
   virtual int update_records(const hal::log::UpdateRecord*& records) const = 0;
-  // The last prediction's odometry fusion records, handed out once (a second call returns none);
-  // they stay valid until the next prediction.
-  virtual int take_fusion_records(const hal::log::FusionRecord*& records) {
-    records = nullptr;
-    return 0;
-  }
   [[nodiscard]] virtual hal::PoseEstimate pose(hal::TimeNs t_ns) const = 0;
   [[nodiscard]] virtual bool standing_still() const = 0;
   // Odometry alone (encoders and gyro), for comparison.

@@ -34,7 +34,6 @@ class UpdateSink {
  public:
   virtual ~UpdateSink() = default;
   virtual void update(const hal::log::UpdateRecord& record) = 0;
-  virtual void fusion(const hal::log::FusionRecord& /*record*/) {}
   virtual void flush() {}
 };
 
@@ -58,7 +57,6 @@ struct LoopStats {
   std::uint64_t predictions_skipped = 0;  // encoders silent
   std::uint64_t poses = 0;
   std::uint64_t update_records = 0;
-  std::uint64_t fusion_records = 0;
   std::array<std::uint64_t, hal::log::kUpdateStatusCount> records_by_status{};
   RejectCounters rejects;
 };
@@ -117,7 +115,6 @@ class Loop {
   void ingest_frame(const hal::CameraFrame& f, hal::TimeNs now);
   bool check_time(hal::TimeNs t, hal::TimeNs last, hal::TimeNs now);
   void run_dead_reckoning();
-  void pass_fusion_records();
   void run_frame_steps();
   void publish(hal::TimeNs now);
   void update_health(hal::TimeNs now);

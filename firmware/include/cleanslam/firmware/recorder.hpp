@@ -51,7 +51,6 @@ class Recorder {
   void lift(hal::TimeNs t_ns, bool lifted);
   void pose(const hal::PoseEstimate& p);
   void update(const hal::log::UpdateRecord& u);
-  void fusion(const hal::log::FusionRecord& f);
 
   // Writes at most write_chunk_bytes of the pending records.
   void write_some();

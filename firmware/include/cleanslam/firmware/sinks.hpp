@@ -63,15 +63,6 @@ class DiagnosticsCsv final : public CsvSink {
   void update(const hal::log::UpdateRecord& r) override;
 };
 
-// The odometry fusions' records as CSV (visual update records go to DiagnosticsCsv).
-class FusionCsv final : public CsvSink {
- public:
-  bool open(const std::string& path, std::string& error);
-  void update(const hal::log::UpdateRecord& /*record*/) override {}
-  void fusion(const hal::log::FusionRecord& r) override;
-};
-
 const char* to_string(hal::log::UpdateStatus s);
-const char* to_string(hal::log::FusionSource s);
 
 }  // namespace cleanslam::firmware

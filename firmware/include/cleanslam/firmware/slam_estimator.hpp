@@ -31,9 +31,6 @@ class SlamEstimator final : public Estimator {
   int update_records(const hal::log::UpdateRecord*& records) const override {
     return system_->update_records(records);
   }
-  int take_fusion_records(const hal::log::FusionRecord*& records) override {
-    return system_->take_fusion_records(records);
-  }
   [[nodiscard]] hal::PoseEstimate pose(hal::TimeNs t_ns) const override {
     return system_->pose(t_ns);
   }

@@ -41,7 +41,7 @@ enum class RecordType : std::uint16_t {
   kLift = 6,     // i64 t_ns, u8 lifted
   kPose = 16,    // PoseEstimate published by the loop
   kUpdate = 17,  // UpdateRecord: one per observation of a visual update (diagnostics)
-  kFusion = 18,  // FusionRecord: one per scalar update of an odometry measurement (diagnostics)
+  // 18 is not used again: earlier versions wrote odometry fusion records with it.
 };
 
 [[nodiscard]] constexpr const char* to_string(RecordType t) {
@@ -62,8 +62,6 @@ enum class RecordType : std::uint16_t {
       return "pose";
     case RecordType::kUpdate:
       return "update";
-    case RecordType::kFusion:
-      return "fusion";
   }
   return "unknown";
 }
@@ -73,7 +71,7 @@ enum class RecordType : std::uint16_t {
          t == RecordType::kLift;
 }
 [[nodiscard]] constexpr bool is_output(RecordType t) {
-  return t == RecordType::kPose || t == RecordType::kUpdate || t == RecordType::kFusion;
+  return t == RecordType::kPose || t == RecordType::kUpdate;
 }
 
 // Status of one observation in a visual update (the per-update diagnostics record).
@@ -103,23 +101,6 @@ struct UpdateRecord {
   double innovation_u = 0.0;
   double innovation_v = 0.0;
   double mahalanobis2 = 0.0;  // kMerged, kMergeGated: the merge's test ratio (3 dof)
-};
-
-// The measurement a fusion record is about.
-enum class FusionSource : std::uint8_t {
-  // The gyro's turn less the wheels' (filter.wheel_drift_state): one scalar update per direction
-  // of its information about the gyro bias and the wheels' drift, whitened (unit noise).
-  kWheelGyroMismatch = 0,
-};
-
-struct FusionRecord {
-  TimeNs t_ns = 0;  // the prediction's time
-  FusionSource source = FusionSource::kWheelGyroMismatch;
-  std::uint8_t index = 0;  // the scalar update's place within its measurement
-  bool fused = false;      // false: refused by the gate
-  double innovation = 0.0;
-  double innovation_variance = 0.0;
-  double test_ratio = 0.0;  // innovation^2 / innovation_variance
 };
 
 // CRC-32, reflected polynomial 0xEDB88320, initial value and final xor 0xFFFFFFFF.
@@ -327,7 +308,6 @@ inline constexpr std::size_t kEncoderPayload = 20;
 inline constexpr std::size_t kLiftPayload = 9;
 inline constexpr std::size_t kPosePayload = 360;
 inline constexpr std::size_t kUpdatePayload = 61;
-inline constexpr std::size_t kFusionPayload = 35;
 inline constexpr std::size_t kFeatureBytes = 24;
 inline constexpr std::size_t kFrameHeaderBytes = 20;
 
@@ -449,26 +429,6 @@ inline bool decode(ByteReader& r, UpdateRecord& u) {
   u.innovation_u = r.f64();
   u.innovation_v = r.f64();
   u.mahalanobis2 = r.f64();
-  return r.ok();
-}
-
-inline void encode(ByteWriter& w, const FusionRecord& f) {
-  w.i64(f.t_ns);
-  w.u8(static_cast<std::uint8_t>(f.source));
-  w.u8(f.index);
-  w.u8(f.fused ? 1 : 0);
-  w.f64(f.innovation);
-  w.f64(f.innovation_variance);
-  w.f64(f.test_ratio);
-}
-inline bool decode(ByteReader& r, FusionRecord& f) {
-  f.t_ns = r.i64();
-  f.source = static_cast<FusionSource>(r.u8());
-  f.index = r.u8();
-  f.fused = r.u8() != 0;
-  f.innovation = r.f64();
-  f.innovation_variance = r.f64();
-  f.test_ratio = r.f64();
   return r.ok();
 }
 

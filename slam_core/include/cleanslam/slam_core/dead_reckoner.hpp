@@ -61,12 +61,6 @@ struct DeadReckoningConfig {
   // the track; 0 disables either.
   double gyro_bias_correlation_time_s = 10.0;
   double distance_scale_correlation_m = 0.0;
-  // The filter estimates the gyro bias (EkfConfig::gyro_bias_state): Q leaves out both bias terms
-  // (within one increment and gyro_bias_correlation_time_s).
-  bool bias_in_state = false;
-  // The filter estimates the distance scale (EkfConfig::distance_scale_state): Q leaves out the
-  // distance_scale_correlation_m term.
-  bool scale_in_state = false;
   // A differential drive whose wheels did not turn for standstill_window_s does not rotate: the
   // gyro is not integrated then (heading and its variance held), whatever its noise. The gyro
   // test of standing_still() cannot see that through a noisy gyro.
@@ -75,13 +69,6 @@ struct DeadReckoningConfig {
   double gyro_scale_error = 0.005;
   // The heading from the gyro and the wheels together (wheel_yaw_fusion.hpp); off: the gyro's.
   WheelYawFusionConfig wheel_yaw;
-  // With wheel_yaw: the filter holds the gyro bias and the wheels' drift per metre as states
-  // (EkfConfig::gyro_bias_state, wheel_drift_state). The increments then weigh the two turns with
-  // the filter's variances of b and c (set_wheel_state), are taken at b = c = 0 with their
-  // derivatives (du_dbias, du_ddrift), and carry the two turns' difference for the filter to
-  // learn b and c from (OdometryIncrement::wheel_gyro_mismatch). The dead reckoner's own pose
-  // keeps its own calibration.
-  bool drift_in_state = false;
 };
 
 // u = (dx_c, dpsi_c) of a body increment (dx, dy, dz, droll, dpitch, dyaw), expressed in the
@@ -133,8 +120,6 @@ class DeadReckoner {
 
   [[nodiscard]] const DeadReckonerCounters& counters() const { return counters_; }
   [[nodiscard]] const WheelYawFusion& wheel_yaw_fusion() const { return wheel_yaw_; }
-  // The filter's b and c for the increments' weights (DeadReckoningConfig::drift_in_state).
-  void set_wheel_state(const WheelYawFusion::StateEstimates& e) { wheel_state_ = e; }
 
  private:
   struct Knot {
@@ -150,8 +135,6 @@ class DeadReckoner {
     Eigen::Vector3d d_scale = Eigen::Vector3d::Zero();  // d(x, y, yaw) / d(distance scale error)
     Eigen::Vector3d d_bias = Eigen::Vector3d::Zero();   // d(x, y, yaw) / d(gyro bias)
     Eigen::Vector3d d_gyro_scale = Eigen::Vector3d::Zero();  // d(x, y, yaw) / d(gyro scale)
-    Eigen::Vector3d d_drift = Eigen::Vector3d::Zero();  // d(x, y, yaw) / d(wheel drift per metre)
-    OdometryIncrement::WheelGyroMismatch mismatch;
     double distance = 0.0;
     double wheel_travel = 0.0;
     bool gyro_used = true;
@@ -160,11 +143,10 @@ class DeadReckoner {
   // Heading integral at t and the integrated (not held) time; false when the gyro does not cover t.
   bool gyro_angle(hal::TimeNs t, double& theta, double& live) const;
   [[nodiscard]] bool heading_held() const;
-  // gyro_weight: d dyaw / d (the gyro's reading), 1 without wheel_yaw fusion; drift_weight:
-  // d dyaw / d c (drift_in_state).
-  // distance_var: variance along the track (the outage's motion model).
+  // gyro_weight: d dyaw / d (the gyro's reading), 1 without wheel_yaw fusion; distance_var:
+  // variance along the track (the outage's motion model).
   void step(double distance, double dyaw, double yaw_var, double dt, bool gyro, double wheels,
-            double gyro_weight, double drift_weight = 0.0, double distance_var = 0.0);
+            double gyro_weight, double distance_var = 0.0);
   // The increment from seg_t_ to t_ns by the outage's motion model (encoder_outage.cpp).
   void coast(hal::TimeNs t_ns);
   OdometryIncrement camera_increment(const Increment& inc, double dt_s) const;
@@ -211,7 +193,6 @@ class DeadReckoner {
   hal::TimeNs gyro_t_ = 0;
 
   WheelYawFusion wheel_yaw_;
-  WheelYawFusion::StateEstimates wheel_state_;
   DeadReckonerCounters counters_;
 };
 

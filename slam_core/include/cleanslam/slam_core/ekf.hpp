@@ -46,8 +46,6 @@ struct EkfCounters {
   std::uint64_t consider_observations = 0;  // fused with the consider (Schmidt) gain
   std::uint64_t landmarks_merged = 0;
   std::uint64_t merges_gated = 0;
-  std::uint64_t wheel_gyro_mismatches_fused = 0;
-  std::uint64_t wheel_gyro_mismatches_gated = 0;
 };
 
 class Ekf {
@@ -62,8 +60,8 @@ class Ekf {
   Ekf(const Ekf&) = delete;
   Ekf& operator=(const Ekf&) = delete;
 
-  // The range the filter represents: no state entry beyond kMaxAbsState (m, rad, rad/s, rad/m)
-  // and no variance beyond kMaxVariance; a call whose result would leave it is refused. Far
+  // The range the filter represents: no state entry beyond kMaxAbsState (m, rad) and
+  // no variance beyond kMaxVariance; a call whose result would leave it is refused. Far
   // beyond any robot's workspace, they keep every product of the state's and P's entries, and
   // their rounding, finite (inputs of 1e150 and beyond, found by fuzzing, overflowed them).
   static constexpr double kMaxAbsState = 1e6;
@@ -102,19 +100,6 @@ class Ekf {
   // -1 when it did not get that far.
   [[nodiscard]] double last_merge_test_ratio() const { return merge_test_ratio_; }
 
-  // The gyro's turn less the wheels' in an increment's intervals, z = b dt - c d + noise, as their
-  // information about (b, c) (EkfConfig::wheel_drift_state): at most two scalar updates of the
-  // whole state along the information's eigenvectors, each gated at gate_chi2 (none when not
-  // above 0) and refused when it would leave a variance below zero. kFused when any passed;
-  // kGate (counted) when none did; kNonFinite, kNotPositiveDefinite or kOutOfRange (when every one
-  // was refused) or kInvalidSlot (no drift or bias state, or no intervals): nothing changed.
-  // last_mismatch() holds each scalar update's status; the test ratio is the larger of the two, -1
-  // without any.
-  ObservationResult fuse_wheel_gyro_mismatch(const OdometryIncrement::WheelGyroMismatch& m,
-                                             double gate_chi2);
-  [[nodiscard]] const MismatchStatus& last_mismatch() const { return mismatch_status_; }
-  [[nodiscard]] double last_mismatch_test_ratio() const;
-
   // Per-observation gates (3-D and pixel), then one batch Joseph-form update of the survivors (eq.
   // 25-27). With a step budget (set_update_step) the update may return still pending: the status
   // is final once update_pending() is false.
@@ -151,22 +136,6 @@ class Ekf {
                              std::span<double> S) const;
 
   [[nodiscard]] Vector6d camera_pose() const { return x_.head<6>(); }
-  // The residual gyro bias state (rad/s) and its variance; 0 without EkfConfig::gyro_bias_state.
-  [[nodiscard]] double gyro_bias() const { return first_slot_ > 0 ? x_(kBiasRow) : 0.0; }
-  [[nodiscard]] double gyro_bias_variance() const {
-    return first_slot_ > 0 ? P_(kBiasRow, kBiasRow) : 0.0;
-  }
-  // The distance scale state and its variance; 0 without EkfConfig::distance_scale_state.
-  [[nodiscard]] double distance_scale() const { return first_slot_ > 0 ? x_(kScaleRow) : 0.0; }
-  [[nodiscard]] double distance_scale_variance() const {
-    return first_slot_ > 0 ? P_(kScaleRow, kScaleRow) : 0.0;
-  }
-  // The wheels' drift per metre state (rad/m) and its variance; 0 without
-  // EkfConfig::wheel_drift_state.
-  [[nodiscard]] double wheel_drift() const { return first_slot_ > 0 ? x_(kDriftRow) : 0.0; }
-  [[nodiscard]] double wheel_drift_variance() const {
-    return first_slot_ > 0 ? P_(kDriftRow, kDriftRow) : 0.0;
-  }
   [[nodiscard]] Matrix6d pose_covariance() const { return P_.topLeftCorner<6, 6>(); }
   [[nodiscard]] bool slot_used(int slot) const;
   // Std. dev. of the landmark's depth relative to the camera, along the camera-landmark line,
@@ -195,17 +164,11 @@ class Ekf {
     std::uint32_t fused = 0;
   };
   static int row_of(int slot) { return hal::kPoseDim + hal::kLandmarkDim * slot; }
-  // With EkfConfig::gyro_bias_state or distance_scale_state, slot 0 is reserved for the odometry
-  // error states: its first row holds the gyro bias, its second the distance scale.
-  static constexpr int kBiasRow = hal::kPoseDim;
-  static constexpr int kScaleRow = hal::kPoseDim + 1;
-  static constexpr int kDriftRow = hal::kPoseDim + 2;
   // reset() without its checks: P0s symmetric, the pose and P0s inside the range.
   void start(const Vector6d& camera_pose, const Matrix6d& P0s);
   [[nodiscard]] bool valid_used_slot(int slot) const;
   // The PSD guard of an update for row i's posterior variance d: above min_variance for the pose
-  // and used landmarks, not below zero for an enabled odometry error state (its calibration may
-  // give it none), anything for an unused row.
+  // and used landmarks, anything for an unused row.
   [[nodiscard]] bool posterior_variance_ok(int i, double d) const;
   // Rows [0, n) of x + dx inside kMaxAbsState, and finite.
   [[nodiscard]] bool state_in_range(int n, const Eigen::Ref<const Eigen::VectorXd>& dx) const;
@@ -240,9 +203,6 @@ class Ekf {
   EkfConfig config_;
   CameraModel camera_;
   int max_slots_;
-  int first_slot_;
-  double bias_std0_;
-  double scale_std0_;
 
   StateVector x_;
   StateMatrix P_;
@@ -287,7 +247,6 @@ class Ekf {
   UpdateStatus status_;
   EkfCounters counters_;
   double merge_test_ratio_ = -1.0;
-  MismatchStatus mismatch_status_;
 };
 
 }  // namespace cleanslam::slam_core

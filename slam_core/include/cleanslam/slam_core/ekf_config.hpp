@@ -41,24 +41,6 @@ struct EkfConfig {
   // (kDepthBound) and the rest is fused again.
   bool depth_bounds = true;
   double max_depth_m = 0.0;
-  // A state for the gyro bias left after the dead reckoner's own estimate (rad/s, yaw axis of the
-  // body): initial std. dev. gyro.bias_instability of the calibration, random walk
-  // gyro_bias_walk (rad/s/sqrt(s)); it enters the prediction through
-  // OdometryIncrement::du_dbias. It takes landmark slot 0 (one landmark fewer).
-  bool gyro_bias_state = false;
-  double gyro_bias_walk = 0.0;
-  // A state for the wheels' distance scale error s (the travelled distance is the measured one
-  // times 1 + s), constant: initial std. dev. wheels.scale_error of the calibration (its
-  // distance_noise when not stated); it enters the prediction through
-  // OdometryIncrement::du_dscale. It shares slot 0 with the gyro bias state (its second row).
-  bool distance_scale_state = false;
-  // A state for the wheels' heading drift per metre c (wheel_yaw_fusion.hpp), constant: initial
-  // std. dev. wheel_drift_std_rad_per_m; it enters the prediction through
-  // OdometryIncrement::du_ddrift and is learnt, with the gyro bias state, from the increments'
-  // wheel_gyro_mismatch (fuse_wheel_gyro_mismatch) as well as from the camera. It takes slot 0's
-  // third row. Needs gyro_bias_state.
-  bool wheel_drift_state = false;
-  double wheel_drift_std_rad_per_m = 0.5;
   // Invariant-EKF reset after every state correction (update or merge): the covariance is carried
   // from the estimate the correction was linearized at to the corrected one, with the Jacobian of
   // a rotation about the vertical applied to every position (robot and landmarks). The global

@@ -111,15 +111,10 @@ double stored_default(const Parameter<Config>& p) {
 
 // Every key of SlamConfig a configuration sets, in the order of the sample configuration.
 // Members set from elsewhere are not listed: the image size (the camera calibration), the gyro
-// timeout (the firmware's loop.gyro_timeout_s) and those derive_dependent_settings() sets.
+// timeout (the firmware's loop.gyro_timeout_s).
 std::span<const Parameter<SlamConfig>> slam_parameters();
 
 // The key's entry, or nullptr.
 const Parameter<SlamConfig>* find_slam_parameter(std::string_view key);
-
-// The members that follow other keys: the dead reckoner leaves out of Q what the filter holds as
-// states (bias_in_state, scale_in_state, drift_in_state), the filter's prior of the wheels' drift
-// is the wheel-yaw fusion's.
-void derive_dependent_settings(SlamConfig& config);
 
 }  // namespace cleanslam::slam_core

@@ -41,8 +41,6 @@ struct SlamConfig {
   MapConfig map;
   // Image frames after a relocalizing set-down: the map found again by appearance and geometry.
   RelocalizerConfig relocalizer;
-  // The gyro's scale error and bias walk are at least the calibration's (hal::GyroCalibration).
-  bool gyro_errors_from_calibration = false;
   // The pose is lost while the position's std. dev. (the larger of x and y) exceeds this.
   double pose_lost_position_std_m = 0.5;
   // Work of one bounded part of the EKF's batch update (Ekf::set_update_step); 0: unbounded.

@@ -67,8 +67,6 @@ class SlamSystem {
     records = records_.data();
     return record_count_;
   }
-  // The last prediction's odometry fusion records, handed out once.
-  int take_fusion_records(const hal::log::FusionRecord*& records);
 
   [[nodiscard]] hal::PoseEstimate pose(hal::TimeNs t_ns) const {
     return ekf_.body_pose_estimate(t_ns);
@@ -86,9 +84,7 @@ class SlamSystem {
   [[nodiscard]] const SlamConfig& config() const { return config_; }
 
  private:
-  void share_wheel_state();
   void check_position_std();
-  void record_mismatch(hal::TimeNs t_ns);
   void record(const hal::FeatureObservation& f, hal::log::UpdateStatus status, int slot);
   // Features path (feature_frame.cpp).
   bool step_features(int& budget);
@@ -126,8 +122,6 @@ class SlamSystem {
   frontend::JcbbResult jcbb_result_;
   std::array<hal::log::UpdateRecord, hal::kMaxFeaturesPerFrame> records_{};
   int record_count_ = 0;
-  std::array<hal::log::FusionRecord, 2> fusion_records_{};
-  int fusion_record_count_ = 0;
   std::uint64_t image_frames_ = 0;
   bool relocalizing_ = false;
   std::uint64_t updates_at_set_down_ = 0;

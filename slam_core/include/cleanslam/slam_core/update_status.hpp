@@ -52,19 +52,6 @@ struct UpdateStatus {
 // One scalar update of an odometry measurement (a direction of the turns' difference): its
 // innovation and the innovation's variance, in the measurement's whitened units, the test ratio
 // innovation^2 / variance (chi-square, 1 dof), and whether it was fused or gated.
-struct ScalarFusionStatus {
-  double innovation = 0.0;
-  double innovation_variance = 0.0;
-  double test_ratio = 0.0;
-  bool fused = false;
-};
-
-// The scalar updates of the last turns' difference (Ekf::fuse_wheel_gyro_mismatch), at most two.
-struct MismatchStatus {
-  std::array<ScalarFusionStatus, 2> updates{};
-  int count = 0;
-};
-
 // Counts by reason since construction (indexed by ObservationResult).
 struct RejectionCounters {
   std::array<std::uint64_t, kObservationResultCount> by_reason{};

@@ -65,28 +65,6 @@ class WheelYawFusion {
   };
   Fused fuse(const Reading& r);
 
-  // The filter's estimates of b and c (EkfConfig::gyro_bias_state, wheel_drift_state) and their
-  // variances, for fused_for_state.
-  struct StateEstimates {
-    double bias = 0.0;
-    double bias_var = 0.0;
-    double drift = 0.0;
-    double drift_var = 0.0;
-  };
-  struct StateFused {
-    bool fused = false;         // false: the gyro alone (gated or bad input)
-    double yaw = 0.0;           // at b = 0 and c = 0: the filter adds its own through the weights
-    double variance = 0.0;      // the readings' noise and the heading scale's share
-    double gyro_weight = 1.0;   // d yaw / d gyro_yaw; d yaw / d b = -gyro_weight dt
-    double drift_weight = 0.0;  // d yaw / d c
-    double mismatch = 0.0;      // gyro_yaw - (1 + s) wheel_yaw
-    double mismatch_variance = 0.0;  // its noise
-  };
-  // The interval's heading for a filter that holds b and c as states: weighted as fuse() weighs,
-  // with the filter's variances of b and c in place of this filter's, and linear in both. The
-  // heading scale s stays this filter's. Changes nothing.
-  [[nodiscard]] StateFused fused_for_state(const Reading& r, const StateEstimates& e) const;
-
   // p = (b, s, c) and its covariance.
   [[nodiscard]] const Eigen::Vector3d& calibration() const { return p_; }
   [[nodiscard]] const Eigen::Matrix3d& calibration_covariance() const { return P_; }
