@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "cleanslam/slam_core/geometry.hpp"
-#include "cleanslam/slam_core/parameter_table.hpp"
 
 namespace cleanslam::slam_core {
 
