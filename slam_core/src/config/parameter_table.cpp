@@ -64,10 +64,6 @@ constexpr std::array kSlamParameters{
       false, "",
       "the wheels' distance scale error as a filter state (std. dev. wheels.scale_error, else "
       "distance_noise; shares slot 0)"},
-    P{"filter.hold_heading_when_still",
-      [](SlamConfig& c) { return parameter_field(c.odometry.hold_heading_when_still); }, 1.0, 0.0,
-      1.0, false, "",
-      "heading not integrated while the wheels stand still (a differential drive does not turn)"},
     P{"filter.wheel_yaw_fusion",
       [](SlamConfig& c) { return parameter_field(c.odometry.wheel_yaw.enabled); }, 1.0, 0.0, 1.0,
       false, "",

@@ -145,17 +145,14 @@ TEST(Config, AMissingFileIsAnErrorNamingIt) {
 TEST(Config, SparseOdometryKeysParseAndAreRangeChecked) {
   const ConfigResult r = parse_config(
       "filter:\n  gyro_bias_state: true\n  gyro_bias_walk: 0.0005\n"
-      "  hold_heading_when_still: false\n"
       "  distance_scale_state: true\n  second_order_yaw: true\n",
       "s.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
   EXPECT_TRUE(r.config.slam.filter.gyro_bias_state);
   EXPECT_EQ(r.config.slam.filter.gyro_bias_walk, 0.0005);
-  EXPECT_FALSE(r.config.slam.odometry.hold_heading_when_still);
   EXPECT_TRUE(r.config.slam.filter.distance_scale_state);
   EXPECT_TRUE(r.config.slam.filter.second_order_yaw);
   const FirmwareConfig defaults;
-  EXPECT_TRUE(defaults.slam.odometry.hold_heading_when_still);
   EXPECT_FALSE(defaults.slam.filter.gyro_bias_state || defaults.slam.filter.distance_scale_state ||
                defaults.slam.filter.second_order_yaw);
   const ConfigResult bad =
