@@ -154,10 +154,9 @@ Setup read_setup(ByteReader& in) {
   EkfConfig& c = s.config;
   c.consider_young_landmarks = bit(0);
   c.depth_bounds = bit(1);
-  // Bits 2, 3, 4, 12 and 14 are unused.
+  // Bits 2, 3, 4, 7, 12 and 14 are unused.
   c.invariant_reset = bit(5);
   c.merge_considers_kept = bit(6);
-  c.second_order_yaw = bit(7);
   c.gate_pixel_chi2 = bit(10) ? 0.0 : c.gate_pixel_chi2;
   c.max_depth_m = bit(11) ? 8.0 : 0.0;
   if (bit(13)) {

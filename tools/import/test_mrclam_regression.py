@@ -21,7 +21,7 @@ ROBOT = 3
 # SLAM ATE RMSE in metres, measured with
 #   tools/eval/real_table.py --robots 3 --no-bound
 # (the same import and replay as here: defaults, seed 1).
-MEASURED = {"commanded": 1.3100, "mems": 1.3213}
+MEASURED = {"commanded": 1.2984, "mems": 1.8472}
 TOLERANCE = 0.10
 
 data = mrclam_data.dataset6()

@@ -44,11 +44,6 @@ DeadReckoner::DeadReckoner(const hal::Calibration& calibration, const DeadReckon
   t_body_c_ = camera.t_body_c();
 }
 
-bool DeadReckoner::heading_held() const {
-  return config_.hold_heading_when_still && have_encoder_ && !coasting() &&
-         seconds(enc_t_ - last_wheel_motion_t_) >= config_.standstill_window_s;
-}
-
 bool DeadReckoner::gyro_angle(hal::TimeNs t, double& theta, double& live) const {
   if (knot_count_ == 0 || t < gyro_series_start_) {
     return false;
@@ -59,7 +54,7 @@ bool DeadReckoner::gyro_angle(hal::TimeNs t, double& theta, double& live) const 
     if (t - newest.t > timeout) {
       return false;
     }
-    const double ahead = heading_held() ? 0.0 : seconds(t - newest.t);
+    const double ahead = seconds(t - newest.t);
     theta = newest.theta + (last_rate_ - bias_) * ahead;
     live = newest.live + ahead;
     return true;
@@ -107,7 +102,7 @@ bool DeadReckoner::add_gyro(const hal::GyroSample& s) {
     theta = knots_[static_cast<std::size_t>(knot_head_)].theta;
     live = knots_[static_cast<std::size_t>(knot_head_)].live;
   }
-  if (continues && !heading_held()) {
+  if (continues) {
     theta += 0.5 * ((last_rate_ - bias_) + (s.wz_rad_s - bias_)) * seconds(s.t_ns - gyro_t_);
     live += seconds(s.t_ns - gyro_t_);
   } else if (!continues) {
@@ -197,7 +192,6 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     wheel_speed_ = 0.0;
     enc_yaw_rate_ = 0.0;
     last_motion_t_ = s.t_ns;
-    last_wheel_motion_t_ = s.t_ns;
     ++counters_.encoder_accepted;
     return true;
   }
@@ -208,7 +202,6 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     enc_right_ = s.right_ticks;
     seg_t_ = s.t_ns;
     last_motion_t_ = s.t_ns;
-    last_wheel_motion_t_ = s.t_ns;
     ++counters_.encoder_accepted;
     return true;
   }
@@ -230,7 +223,6 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     wheel_speed_ = 0.0;
     enc_yaw_rate_ = 0.0;
     last_motion_t_ = s.t_ns;
-    last_wheel_motion_t_ = s.t_ns;
     return false;
   }
   ++counters_.encoder_accepted;
@@ -241,7 +233,6 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
   if (std::abs(dl_ticks) > config_.standstill_max_ticks ||
       std::abs(dr_ticks) > config_.standstill_max_ticks) {
     last_motion_t_ = s.t_ns;
-    last_wheel_motion_t_ = s.t_ns;
   }
 
   double th0 = 0.0;
@@ -258,7 +249,7 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
   double fused_correction = 0.0;
   double fused_var = -1.0;
   double gyro_weight = 1.0;
-  if (gyro && config_.wheel_yaw.enabled && !heading_held()) {
+  if (gyro && config_.wheel_yaw.enabled) {
     const double nd = calibration_.gyro.noise_density;
     const double q_left = 1.0 / w.ticks_per_meter_left;
     const double q_right = 1.0 / w.ticks_per_meter_right;
@@ -300,9 +291,6 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     double seg_weight = 1.0;
     if (seg_gyro) {
       seg_yaw = th1 - ths;
-      if (config_.hold_heading_when_still) {
-        seg_dt = live1 - lives;  // the gyro's integrated time, none while the heading is held
-      }
       const double nd = calibration_.gyro.noise_density;
       yaw_var = nd * nd * seg_dt;
       if (fused_var >= 0.0) {
@@ -352,9 +340,6 @@ OdometryIncrement DeadReckoner::take_increment(hal::TimeNs t_ns) {
       const bool gyro = gyro_angle(seg_t_, tha, livea) && gyro_angle(target, thb, liveb);
       if (gyro) {
         dyaw = thb - tha;
-        if (config_.hold_heading_when_still) {
-          dt = liveb - livea;
-        }
         const double nd = calibration_.gyro.noise_density;
         yaw_var = nd * nd * std::abs(dt);
       }

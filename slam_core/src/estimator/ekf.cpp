@@ -7,7 +7,6 @@
 
 #include "cleanslam/slam_core/camera_frame_measurement.hpp"
 #include "cleanslam/slam_core/prediction_model.hpp"
-#include "cleanslam/slam_core/yaw_curvature.hpp"
 
 namespace cleanslam::slam_core {
 
@@ -370,18 +369,6 @@ void Ekf::delete_landmark(int slot) {
   recompute_active_dim();
 }
 
-Eigen::Matrix4d Ekf::relative_yaw_covariance(int slot) const {
-  const int lm = row_of(slot);
-  Eigen::Matrix4d Q;
-  Q.topLeftCorner<3, 3>() =
-      P_.block<3, 3>(lm, lm) - P_.block<3, 3>(lm, 0) - P_.block<3, 3>(0, lm) + P_.block<3, 3>(0, 0);
-  const Eigen::Vector3d c = P_.block<3, 1>(lm, 5) - P_.block<3, 1>(0, 5);
-  Q.block<3, 1>(0, 3) = c;
-  Q.block<1, 3>(3, 0) = c.transpose();
-  Q(3, 3) = P_(5, 5);
-  return Q;
-}
-
 ObservationResult Ekf::measure(const Observation& o, Eigen::Vector3d& z, Eigen::Matrix3d& R,
                                Eigen::Vector3d& h, Eigen::Matrix<double, 3, 6>& Hp,
                                Eigen::Matrix3d& Hl) const {
@@ -408,9 +395,6 @@ ObservationResult Ekf::measure(const Observation& o, Eigen::Vector3d& z, Eigen::
   R = measurement_covariance(
       ct, config_.eps_ct_m,
       normal_noise(depth, config_.eps_trk_px, config_.eps_cal_px, camera_.focal_px()));
-  if (config_.second_order_yaw) {
-    R += yaw_curvature_covariance(pose, y, relative_yaw_covariance(o.slot));
-  }
   measurement_jacobian(pose, y, Hp, Hl);  // eq. 22-24
   if (!z.allFinite() || !R.allFinite() || !Hp.allFinite()) {
     return ObservationResult::kNonFinite;

@@ -142,23 +142,6 @@ TEST(Config, AMissingFileIsAnErrorNamingIt) {
   EXPECT_NE(r.errors[0].find("/nonexistent/robot.yaml"), std::string::npos);
 }
 
-TEST(Config, SparseOdometryKeysParseAndAreRangeChecked) {
-  const ConfigResult r = parse_config(
-      "filter:\n  hold_heading_when_still: false\n  second_order_yaw: true\n", "s.yaml", {});
-  ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_FALSE(r.config.slam.odometry.hold_heading_when_still);
-  EXPECT_TRUE(r.config.slam.filter.second_order_yaw);
-  const FirmwareConfig defaults;
-  EXPECT_TRUE(defaults.slam.odometry.hold_heading_when_still);
-  EXPECT_FALSE(defaults.slam.filter.second_order_yaw);
-  const ConfigResult bad = parse_config(
-      "filter:\n  hold_heading_when_still: maybe\n  second_order_yaw: 3\n", "b.yaml", {});
-  ASSERT_EQ(bad.errors.size(), 2U) << joined(bad.errors);
-  const std::string all = joined(bad.errors);
-  EXPECT_NE(all.find("b.yaml:2: filter.hold_heading_when_still"), std::string::npos) << all;
-  EXPECT_NE(all.find("b.yaml:3: filter.second_order_yaw"), std::string::npos) << all;
-}
-
 TEST(Config, RemapKeysParseAndAreRangeChecked) {
   const ConfigResult r = parse_config(
       "filter:\n  remap_pixel_std_px: 0\n  remap_min_yaw_std_deg: 10\n"
@@ -239,8 +222,9 @@ TEST(Config, WheelYawFusionKeysParseAndAreRangeChecked) {
 // The estimator's switches measured and removed (docs/experiments.md) are unknown keys now: a
 // configuration that still sets one is an error naming it, with the nearest key.
 TEST(Config, RemovedEstimatorSwitchesAreUnknownKeys) {
-  for (const char* key : {"gyro_bias_state", "gyro_bias_walk", "distance_scale_state",
-                          "wheel_drift_state", "gyro_errors_from_calibration"}) {
+  for (const char* key :
+       {"gyro_bias_state", "gyro_bias_walk", "distance_scale_state", "wheel_drift_state",
+        "gyro_errors_from_calibration", "hold_heading_when_still", "second_order_yaw"}) {
     const ConfigResult r =
         parse_config(std::string("filter:\n  ") + key + ": false\n", "old.yaml", {});
     ASSERT_EQ(r.errors.size(), 1U) << key << "\n" << joined(r.errors);

@@ -228,15 +228,6 @@ TEST(EstimatorAllocation, EkfWithInvariantResetAllocatesNothing) {
   expect_no_allocation(hal::Calibration{}, config, {0, 20000});
 }
 
-// The second-order yaw terms, chunked (the one-shot path is the same code, run by the test above).
-TEST(EstimatorAllocation, EkfWithSecondOrderYawAllocatesNothing) {
-  cs::EkfConfig config;
-  config.invariant_reset = true;
-  config.merge_considers_kept = true;
-  config.second_order_yaw = true;
-  expect_no_allocation(hal::Calibration{}, config, {20000});
-}
-
 namespace {
 
 struct DeadReckonerRun {

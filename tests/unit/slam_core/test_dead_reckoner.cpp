@@ -91,7 +91,6 @@ cs::DeadReckoningConfig gyro_only() {
   cs::DeadReckoningConfig c;
   c.gyro_bias_correlation_time_s = 0.0;
   c.gyro_scale_error = 0.0;
-  c.hold_heading_when_still = false;
   c.wheel_yaw.enabled = false;
   return c;
 }
@@ -437,42 +436,45 @@ TEST(DeadReckoner, QsDistanceScaleTermIsTheNumericalDerivativesOuterProduct) {
   EXPECT_GT(numeric.head<3>().norm(), 0.3);
 }
 
-TEST(DeadReckoner, HoldsTheHeadingWhileTheWheelsStandStill) {
-  const hal::Calibration cal;
-  cs::DeadReckoningConfig held = gyro_only();
-  held.hold_heading_when_still = true;
+TEST(DeadReckoner, WheelYawFusionHoldsTheHeadingWhileTheWheelsStandStillAndLearnsTheBias) {
+  // A noisy gyro whose calibration says so: its bias within the stated instability.
+  hal::Calibration cal;
+  cal.gyro.noise_density = 0.01;
+  cal.gyro.bias_instability = 0.02;
   const auto still_then_turn = [&](const cs::DeadReckoningConfig& c, double& yaw_still,
-                                   double& var_still, double& yaw_turned) {
+                                   double& yaw_turned, double& bias) {
     cs::DeadReckoner dr(cal, c);
     Drive drive(dr, cal);
     drive.gyro_bias = 0.02;
-    drive.gyro_noise = 0.1;  // per sample, far above standstill_rate_rad_s
-    drive.w = [](double t) { return t > 10.0 ? 0.4 : 0.0; };
+    drive.gyro_noise = 0.1;  // per 100 Hz sample, far above standstill_rate_rad_s
+    drive.w = [](double t) { return t > 60.0 ? 0.4 : 0.0; };
     drive.run_until(0);
     dr.take_increment(0);
-    drive.run_until(10000 * kMs);
-    const cs::OdometryIncrement u = dr.take_increment(10000 * kMs);
+    drive.run_until(60000 * kMs);
     yaw_still = dr.yaw();
-    var_still = u.Q.trace();
-    drive.run_until(12000 * kMs);
+    bias = dr.wheel_yaw_fusion().calibration()(0);
+    drive.run_until(62000 * kMs);
     yaw_turned = dr.yaw() - yaw_still;
   };
-  double yaw_held = 0.0;
-  double var_held = 0.0;
-  double turn_held = 0.0;
-  still_then_turn(held, yaw_held, var_held, turn_held);
-  double yaw_free = 0.0;
-  double var_free = 0.0;
-  double turn_free = 0.0;
-  still_then_turn(gyro_only(), yaw_free, var_free, turn_free);
-  // Only the first standstill window (0.5 s) is integrated: 0.01 rad of bias, 0.007 of noise; the
-  // gyro's own standstill test never passes, so without the hold 10 s of bias (0.2 rad) are.
-  EXPECT_LT(std::abs(yaw_held), 0.04);
-  EXPECT_GT(yaw_free, 0.12);
-  EXPECT_LT(var_held, 0.1 * var_free);
-  // Turning on the spot moves the wheels: the gyro is integrated again.
-  EXPECT_NEAR(turn_held, 0.84, 0.05);
-  EXPECT_NEAR(turn_free, 0.84, 0.05);
+  cs::DeadReckoningConfig fused = gyro_only();
+  fused.wheel_yaw.enabled = true;
+  double yaw_fused = 0.0;
+  double turn_fused = 0.0;
+  double bias_fused = 0.0;
+  still_then_turn(fused, yaw_fused, turn_fused, bias_fused);
+  double yaw_gyro = 0.0;
+  double turn_gyro = 0.0;
+  double bias_gyro = 0.0;
+  still_then_turn(gyro_only(), yaw_gyro, turn_gyro, bias_gyro);
+  // The gyro's own standstill test never passes through this noise: alone it integrates 60 s of
+  // bias (1.2 rad). Wheels that do not turn hold the heading, and the fusion learns the bias
+  // from them.
+  EXPECT_LT(std::abs(yaw_fused), 0.05);
+  EXPECT_GT(yaw_gyro, 1.0);
+  EXPECT_NEAR(bias_fused, 0.02, 0.004);
+  // Turning on the spot moves the wheels: the turn is the gyro's and the wheels'.
+  EXPECT_NEAR(turn_fused, 0.84, 0.05);
+  EXPECT_NEAR(turn_gyro, 0.84 + 2.0 * 0.02, 0.05);
 }
 
 TEST(DeadReckoner, WheelYawFusionHoldsTheHeadingBetterThanANoisyGyro) {

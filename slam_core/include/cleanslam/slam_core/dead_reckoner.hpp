@@ -61,10 +61,6 @@ struct DeadReckoningConfig {
   // the track; 0 disables either.
   double gyro_bias_correlation_time_s = 10.0;
   double distance_scale_correlation_m = 0.0;
-  // A differential drive whose wheels did not turn for standstill_window_s does not rotate: the
-  // gyro is not integrated then (heading and its variance held), whatever its noise. The gyro
-  // test of standing_still() cannot see that through a noisy gyro.
-  bool hold_heading_when_still = true;
   // Relative gyro scale error, one value within an increment (like the distance scale).
   double gyro_scale_error = 0.005;
   // The heading from the gyro and the wheels together (wheel_yaw_fusion.hpp); off: the gyro's.
@@ -125,7 +121,7 @@ class DeadReckoner {
   struct Knot {
     hal::TimeNs t = 0;
     double theta = 0.0;  // integral of (rate - bias) since the first sample
-    double live = 0.0;   // seconds of that integral not held (hold_heading_when_still)
+    double live = 0.0;   // seconds of that integral, gaps past gyro_timeout_s left out
   };
   struct Increment {
     double x = 0.0;
@@ -142,7 +138,6 @@ class DeadReckoner {
 
   // Heading integral at t and the integrated (not held) time; false when the gyro does not cover t.
   bool gyro_angle(hal::TimeNs t, double& theta, double& live) const;
-  [[nodiscard]] bool heading_held() const;
   // gyro_weight: d dyaw / d (the gyro's reading), 1 without wheel_yaw fusion; distance_var:
   // variance along the track (the outage's motion model).
   void step(double distance, double dyaw, double yaw_var, double dt, bool gyro, double wheels,
@@ -188,7 +183,6 @@ class DeadReckoner {
   double bias_ = 0.0;
   int bias_samples_ = 0;
   hal::TimeNs last_motion_t_ = 0;
-  hal::TimeNs last_wheel_motion_t_ = 0;
   bool have_gyro_ = false;
   hal::TimeNs gyro_t_ = 0;
 

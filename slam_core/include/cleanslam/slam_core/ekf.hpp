@@ -174,8 +174,6 @@ class Ekf {
   [[nodiscard]] bool state_in_range(int n, const Eigen::Ref<const Eigen::VectorXd>& dx) const;
   // Unit vector from the camera to the landmark and its length; false for an unused slot.
   bool ray_to(int slot, Eigen::Vector3d& u, double& depth) const;
-  // Covariance of (y - x_vp, yaw) for a used slot (EkfConfig::second_order_yaw).
-  [[nodiscard]] Eigen::Matrix4d relative_yaw_covariance(int slot) const;
   int take_slot();
   void recompute_active_dim();
   ObservationResult measure(const Observation& o, Eigen::Vector3d& z, Eigen::Matrix3d& R,

@@ -54,10 +54,6 @@ struct EkfConfig {
   // earlier map toward a remapped entry built from a drifted pose, and the map's claimed accuracy
   // compounds over the merges of a run.
   bool merge_considers_kept = true;
-  // The innovation covariance of a camera measurement includes the second-order terms of eq. 21
-  // in the yaw (yaw_curvature_covariance): a measurement made while the yaw is uncertain
-  // corrects less than the linearization claims.
-  bool second_order_yaw = false;
   // Smallest variance allowed on the diagonal of P after an update (the PSD guard).
   double min_variance = 1e-12;
 };
