@@ -84,9 +84,9 @@ class Drive {
   std::normal_distribution<double> noise_{0.0, 1.0};
 };
 
-// The gyro's heading alone, without the persistent-error terms, the standstill hold and the
-// wheel-yaw fusion the robot runs with (DeadReckoningConfig's defaults): the tests that isolate
-// the gyro's mechanism, or compare another against it, set these explicitly.
+// The gyro's heading alone, without the persistent-error terms and the wheel-yaw fusion the robot
+// runs with (DeadReckoningConfig's defaults): the tests that isolate the gyro's mechanism, or
+// compare another against it, set these explicitly.
 cs::DeadReckoningConfig gyro_only() {
   cs::DeadReckoningConfig c;
   c.gyro_bias_correlation_time_s = 0.0;

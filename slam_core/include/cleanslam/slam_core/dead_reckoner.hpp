@@ -136,7 +136,8 @@ class DeadReckoner {
     bool gyro_used = true;
   };
 
-  // Heading integral at t and the integrated (not held) time; false when the gyro does not cover t.
+  // Heading integral at t and the integrated time (Knot::live); false when the gyro does not cover
+  // t.
   bool gyro_angle(hal::TimeNs t, double& theta, double& live) const;
   // gyro_weight: d dyaw / d (the gyro's reading), 1 without wheel_yaw fusion; distance_var:
   // variance along the track (the outage's motion model).
