@@ -92,7 +92,7 @@ for n in "${names[@]}"; do
   build/host-fuzz/bin/fuzz_"$n" "${limits[@]}" -print_final_stats=1 \
     -artifact_prefix="$crashes/" "$work" "tests/fuzz/corpus/$n" >"$work.log" 2>&1 || rc=$?
   wall=$(($(date +%s) - start))
-  grep -E '^(#[0-9]+ +(INITED|DONE)|==[0-9]+==ERROR|SUMMARY|stat::(number_of_executed_units|new_units_added))|fuzz_' \
+  grep -E '^(#[0-9]+[[:space:]]+(INITED|DONE)|==[0-9]+==ERROR|SUMMARY|stat::(number_of_executed_units|new_units_added))|fuzz_' \
     "$work.log" | tail -n 8 || true
   # libFuzzer's final count, else its last progress line's.
   inputs=$(sed -n 's/^stat::number_of_executed_units: *\([0-9]*\).*/\1/p' "$work.log" | tail -n 1)
