@@ -101,6 +101,12 @@ for n in "${names[@]}"; do
   fi
   inputs=${inputs:-0}
   outcome=ok
+  if compgen -G "$crashes/*" >/dev/null; then
+    :
+  elif [ "$rc" -ne 0 ] && grep -q 'libFuzzer: run interrupted' "$work.log"; then
+    outcome=interrupted  # stopped (Ctrl-C, SIGTERM): its inputs ran without a failure
+    rc=0
+  fi
   if [ "$rc" -ne 0 ] || compgen -G "$crashes/*" >/dev/null; then
     outcome="failed(exit $rc)"
     failed+=("$n (exit $rc, log $work.log): $(ls "$crashes" | head -n 3 | sed "s|^|$crashes/|" | tr '\n' ' ')")
@@ -114,7 +120,7 @@ echo "=== this run"
 printf '  %s\n' "${summary[@]}"
 echo "=== all runs logged in $runs_log (inputs, runs that failed)"
 for n in "${names[@]}"; do
-  awk -v t="fuzz_$n" '$2 == t { sub("inputs=", "", $3); total += $3; if ($6 != "outcome=ok") bad++ }
+  awk -v t="fuzz_$n" '$2 == t { sub("inputs=", "", $3); total += $3; if ($6 ~ /^outcome=failed/) bad++ }
     END { printf "  %-21s %12d inputs, %d failed run(s)\n", t, total, bad }' "$runs_log"
 done
 if [ ${#failed[@]} -ne 0 ]; then
