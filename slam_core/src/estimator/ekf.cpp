@@ -99,8 +99,9 @@ bool Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
 }
 
 void Ekf::start(const Vector6d& camera_pose, const Matrix6d& P0s) {
-  x_.setZero();
-  P_.setZero();
+  // Past active_dim_ x and P are zero already: a deleted slot's rows are cleared.
+  x_.head(active_dim_).setZero();
+  P_.topLeftCorner(active_dim_, active_dim_).setZero();
   x_.head<6>() = camera_pose;
   P_.topLeftCorner<6, 6>() = P0s;
   used_.fill(false);
