@@ -17,7 +17,7 @@ hal::TimeNs period_ns(double rate_hz) {
 }  // namespace
 
 Loop::Loop(const LoopOptions& options, Estimator& estimator)
-    : options_(options), estimator_(estimator) {
+    : options_(options), estimator_(estimator), camera_offset_(options.camera) {
   publish_period_ns_ = period_ns(options_.publish_rate_hz);
   frame_period_ns_ = period_ns(options_.frame_rate_hz);
   sources_.reserve(8);
@@ -195,6 +195,7 @@ void Loop::ingest_gyro(const hal::GyroSample& s, hal::TimeNs now) {
   }
   last_gyro_ns_ = s.t_ns;
   estimator_.add_gyro(s);
+  camera_offset_.add_gyro(s);
 }
 
 void Loop::ingest_encoder(const hal::EncoderSample& s, hal::TimeNs now) {
@@ -315,6 +316,7 @@ void Loop::run_frame_steps() {
     if (status < stats_.records_by_status.size()) {
       ++stats_.records_by_status[status];
     }
+    camera_offset_.add_update(records[i]);
     for (UpdateSink* sink : update_sinks_) {
       sink->update(records[i]);
     }

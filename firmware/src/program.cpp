@@ -488,8 +488,29 @@ LoopOptions loop_options(const FirmwareConfig& config) {
   LoopOptions o = config.loop;
   o.image_width = config.calibration.camera.width;
   o.image_height = config.calibration.camera.height;
+  o.camera = config.calibration.camera;
   return o;
 }
+
+namespace {
+void print_camera_offset(const CameraOffsetEstimate::Result& c, std::FILE* out) {
+  if (!c.measurable) {
+    std::fprintf(out,
+                 "cleanslam: camera time offset: not measurable (%llu points seen in consecutive "
+                 "frames; it needs turning with points in view)\n",
+                 static_cast<unsigned long long>(c.pairs));
+    return;
+  }
+  std::fprintf(out,
+               "cleanslam: camera time offset: the data suggest %+.3f s (std. dev. %.3f s, %llu "
+               "points seen in consecutive frames); camera.time_offset_s is %+.3f s\n",
+               c.suggested_s, c.std_s, static_cast<unsigned long long>(c.pairs), c.configured_s);
+  const double d = c.suggested_s - c.configured_s;
+  if (std::abs(d) > CameraOffsetEstimate::kWarnS && std::abs(d) > 3.0 * c.std_s) {
+    std::fprintf(out, "cleanslam: warning: camera.time_offset_s looks off by %+.3f s\n", d);
+  }
+}
+}  // namespace
 
 void print_summary(const Loop& loop, std::FILE* out) {
   const LoopStats& s = loop.stats();
@@ -553,6 +574,7 @@ void print_summary(const Loop& loop, std::FILE* out) {
                  static_cast<unsigned long long>(w.windows_used),
                  static_cast<unsigned long long>(w.windows_gated));
   }
+  print_camera_offset(loop.camera_offset(), out);
   for (std::size_t i = 0; i < kRejectCount; ++i) {
     if (s.rejects.n[i] > 0) {
       std::fprintf(out, "cleanslam: rejected %s: %llu %s\n", to_string(static_cast<Reject>(i)),

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "cleanslam/firmware/camera_offset_estimate.hpp"
 #include "cleanslam/firmware/estimator.hpp"
 #include "cleanslam/firmware/health.hpp"
 #include "cleanslam/firmware/recorder.hpp"
@@ -27,6 +28,7 @@ struct LoopOptions {
   int frame_work_budget = 64;  // pipeline work units per loop iteration
   int image_width = 0;         // the calibrated image size; 0: any size within the capacity
   int image_height = 0;
+  hal::CameraCalibration camera;  // the calibrated camera, for the time offset the data suggest
 };
 
 // The per-update diagnostics records, as the frame pipeline finishes each frame.
@@ -96,6 +98,9 @@ class Loop {
   [[nodiscard]] const std::vector<hal::SensorSource*>& sources() const { return sources_; }
   [[nodiscard]] const LoopStats& stats() const { return stats_; }
   [[nodiscard]] const Estimator& estimator() const { return estimator_; }
+  [[nodiscard]] CameraOffsetEstimate::Result camera_offset() const {
+    return camera_offset_.result();
+  }
   [[nodiscard]] std::uint32_t health() const { return health_; }
   // Counts rejected inputs; the first of each reason is told to the health observer unless the
   // caller has told them already (`told`).
@@ -151,6 +156,7 @@ class Loop {
   FrameSlot* active_ = nullptr;   // being processed
   FrameSlot* pending_ = nullptr;  // newest waiting frame
   LoopStats stats_;
+  CameraOffsetEstimate camera_offset_;
 };
 
 }  // namespace cleanslam::firmware
