@@ -1,5 +1,5 @@
-// DeadReckoner during an encoder outage: the distance from a motion model, the heading from the
-// gyro (or a random walk when it is silent too).
+// DeadReckoner during an encoder outage: the distance from a motion model (the robot keeps its
+// last wheel speed), the heading from the gyro (or a random walk when it is silent too).
 #include <algorithm>
 #include <cmath>
 
@@ -32,9 +32,8 @@ void DeadReckoner::coast(hal::TimeNs t_ns) {
   const double a = hal::to_seconds(seg_t_ - start);
   const double b = hal::to_seconds(t_ns - start);
   const double dt = b - a;
-  // Mean distance: the integral of v0 exp(-t / tau) over [a, b].
-  const double distance =
-      tau > 0.0 ? wheel_speed_ * tau * (std::exp(-a / tau) - std::exp(-b / tau)) : 0.0;
+  // The drive holds its speed whether or not the encoders report it: the mean is the last one's.
+  const double distance = wheel_speed_ * dt;
   const double sv = config_.outage_speed_std_m_s;
   // The EKF takes increments as independent: each gets the growth of the whole outage's variance.
   const double distance_var =
