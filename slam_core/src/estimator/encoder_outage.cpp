@@ -1,5 +1,5 @@
-// DeadReckoner during an encoder outage: the distance from a motion model, the heading from the
-// gyro (or a random walk when it is silent too).
+// DeadReckoner during an encoder outage: the distance from a motion model (the robot keeps its
+// last wheel speed), the heading from the gyro (or a random walk when it is silent too).
 #include <algorithm>
 #include <cmath>
 
@@ -8,17 +8,18 @@
 namespace cleanslam::slam_core {
 
 namespace {
-// Variance of the distance travelled over t by a speed error that starts at zero and follows an
-// Ornstein-Uhlenbeck process with time constant tau and stationary std. dev. sv.
+// Variance of the distance travelled over t by a speed error that follows a stationary
+// Ornstein-Uhlenbeck process with time constant tau and std. dev. sv: (sv t)^2 while t << tau
+// (the error persists), 2 sv^2 tau t in the long run.
 double ou_distance_variance(double t, double tau, double sv) {
   if (!(tau > 0.0)) {
     return 0.0;
   }
   const double x = t / tau;
   if (x < 1e-3) {
-    return 2.0 / 3.0 * sv * sv * tau * tau * x * x * x;
+    return sv * sv * t * t * (1.0 - x / 3.0);
   }
-  return sv * sv * tau * tau * (2.0 * x - 3.0 + 4.0 * std::exp(-x) - std::exp(-2.0 * x));
+  return 2.0 * sv * sv * tau * tau * (x - 1.0 + std::exp(-x));
 }
 }  // namespace
 
@@ -32,11 +33,11 @@ void DeadReckoner::coast(hal::TimeNs t_ns) {
   const double a = hal::to_seconds(seg_t_ - start);
   const double b = hal::to_seconds(t_ns - start);
   const double dt = b - a;
-  // Mean distance: the integral of v0 exp(-t / tau) over [a, b].
-  const double distance =
-      tau > 0.0 ? wheel_speed_ * tau * (std::exp(-a / tau) - std::exp(-b / tau)) : 0.0;
+  // The drive holds its speed whether or not the encoders report it: the mean is the last one's.
+  const double distance = wheel_speed_ * dt;
   const double sv = config_.outage_speed_std_m_s;
-  // The EKF takes increments as independent: each gets the growth of the whole outage's variance.
+  // The EKF takes increments as independent: each gets the growth of the whole outage's variance
+  // (more than the increment's own share of a persistent error, never less).
   const double distance_var =
       std::max(0.0, ou_distance_variance(b, tau, sv) - ou_distance_variance(a, tau, sv));
   double tha = 0.0;

@@ -44,13 +44,15 @@ struct DeadReckoningConfig {
   // sample (and no further back than this before it).
   double max_extrapolation_s = 0.2;
   // Encoders silent for longer while the gyro goes on (encoder outage): the distance comes from a
-  // motion model, the heading from the gyro. The speed is an Ornstein-Uhlenbeck process: its mean,
-  // the last wheel speed, decays to zero with outage_speed_time_constant_s (tau); its error, zero
-  // at the start, has the stationary std. dev. outage_speed_std_m_s (sigma_v), so the distance's
-  // variance is sigma_v^2 tau^2 (2x - 3 + 4 e^-x - e^-2x) after x = t / tau (2 sigma_v^2 tau per
-  // second in the long run). Where the gyro's record does not cover an increment, the heading walks
-  // with rate std. dev. outage_yaw_rate_std_rad_s over tau. The first encoder sample after the
-  // outage starts the wheels' count again: the outage's motion is the model's.
+  // motion model, the heading from the gyro. The speed's mean is the last wheel speed (the drive
+  // holds it, but may stop or change it at any moment); its error is a stationary
+  // Ornstein-Uhlenbeck process with time constant outage_speed_time_constant_s (tau) and std. dev.
+  // outage_speed_std_m_s (sigma_v), so the distance's variance is 2 sigma_v^2 tau^2 (x - 1 + e^-x)
+  // after x = t / tau: (sigma_v t)^2 while the error persists, 2 sigma_v^2 tau per second in the
+  // long run. Where the gyro's record does not cover an
+  // increment, the heading walks with rate std. dev. outage_yaw_rate_std_rad_s over tau. The first
+  // encoder sample after the outage starts the wheels' count again: the outage's motion is the
+  // model's.
   double outage_speed_time_constant_s = 10.0;
   double outage_speed_std_m_s = 0.1;
   double outage_yaw_rate_std_rad_s = 1.0;
