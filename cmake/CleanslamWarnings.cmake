@@ -24,6 +24,7 @@ endif()
 if(CLEANSLAM_LIBFUZZER)
   add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer
                       -fsanitize-coverage-ignorelist=${CMAKE_SOURCE_DIR}/tests/fuzz/coverage_ignorelist.txt
+                      -fsanitize-ignorelist=${CMAKE_SOURCE_DIR}/tests/fuzz/sanitizer_ignorelist.txt
                       -fno-sanitize-recover=all -g -O1)
   add_link_options(-fsanitize=address,undefined)
 endif()

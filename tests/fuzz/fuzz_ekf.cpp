@@ -167,7 +167,8 @@ Setup read_setup(ByteReader& in) {
   c.min_ray_motion_angle_rad = bit(15) ? 0.0 : c.min_ray_motion_angle_rad;
   c.max_landmarks = s.bytes[2] % 13;
   // The filters' key: the bits and the pool size read above.
-  s.bytes[1] &= 0xFCU;
+  s.bytes[0] &= 0x63U;
+  s.bytes[1] &= 0xACU;
   s.bytes[2] = static_cast<std::uint8_t>(c.max_landmarks);
   return s;
 }
@@ -182,7 +183,7 @@ struct Filters {
 };
 
 Filters& filters_for(const Setup& s) {
-  static std::array<Filters, 64> cache;
+  static std::array<Filters, 256> cache;
   static std::uint64_t uses = 0;
   Filters* oldest = &cache.front();
   for (Filters& f : cache) {
@@ -390,8 +391,9 @@ class Session {
     }
     const int count = filter_.landmark_count();
     int k = count > 0 ? b % count : -1;
+    const auto& used = filter_.used_mask();
     for (int s = 0; s < hal::kMaxLandmarks; ++s) {
-      if (filter_.slot_used(s) && k-- == 0) {
+      if (used[static_cast<std::size_t>(s)] && k-- == 0) {
         return s;
       }
     }
@@ -718,8 +720,9 @@ class Session {
     const Ekf& e = filter_;
     int highest = -1;
     int used = 0;
+    const auto& used_mask = e.used_mask();
     for (int s = 0; s < hal::kMaxLandmarks; ++s) {
-      if (e.slot_used(s)) {
+      if (used_mask[static_cast<std::size_t>(s)]) {
         expect(s < max_slots_, "landmark in an excess slot");
         highest = s;
         ++used;
@@ -736,7 +739,7 @@ class Session {
     expect(P == P.transpose(), "P not symmetric");
     for (int i = 0; i < n; ++i) {
       const int slot = (i - hal::kPoseDim) / hal::kLandmarkDim;
-      const bool live = i < hal::kPoseDim || e.slot_used(slot);
+      const bool live = i < hal::kPoseDim || used_mask[static_cast<std::size_t>(slot)];
       if (!live) {
         expect(x(i) == 0.0 && P.row(i).isZero(0.0), "row of an unused slot not zero");
       } else {
