@@ -53,6 +53,13 @@ using cleanslam::slam_core::PredictResult;
 using cleanslam::slam_core::Vector6d;
 
 constexpr int kMaxOperations = 32;
+// The largest pool the setup chooses, and the state it spans: snapshots and copies of P are held
+// at that size without allocating.
+constexpr int kMaxPool = 12;
+constexpr int kMaxActiveDim = hal::kPoseDim + hal::kLandmarkDim * kMaxPool;
+using ActiveVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxActiveDim, 1>;
+using ActiveMatrix =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxActiveDim, kMaxActiveDim>;
 // Relative tolerance of the positive semi-definiteness checks (eigenvalues, diagonal).
 constexpr double kPsdTolerance = 1e-9;
 
@@ -165,7 +172,7 @@ Setup read_setup(ByteReader& in) {
     s.calibration.camera.distortion = {-0.1, 0.02, 0.0005, -0.0003};
   }
   c.min_ray_motion_angle_rad = bit(15) ? 0.0 : c.min_ray_motion_angle_rad;
-  c.max_landmarks = s.bytes[2] % 13;
+  c.max_landmarks = s.bytes[2] % (kMaxPool + 1);
   // The filters' key: the bits and the pool size read above.
   s.bytes[0] &= 0x63U;
   s.bytes[1] &= 0xACU;
@@ -200,14 +207,25 @@ Filters& filters_for(const Setup& s) {
   return *oldest;
 }
 
+// active_dim, which check_filter bounds by the pool after every operation, within kMaxActiveDim.
+int bounded_active_dim(const Ekf& e) {
+  const int n = e.active_dim();
+  if (n < 0 || n > kMaxActiveDim) {
+    std::fprintf(stderr, "fuzz_ekf: active_dim %d beyond the largest pool's %d\n", n,
+                 kMaxActiveDim);
+    std::abort();
+  }
+  return n;
+}
+
 struct Snapshot {
-  Eigen::VectorXd x;
-  Eigen::MatrixXd P;
+  ActiveVector x;
+  ActiveMatrix P;
   int landmarks = 0;
 };
 
 Snapshot snapshot(const Ekf& e) {
-  const int n = e.active_dim();
+  const int n = bounded_active_dim(e);
   return {e.state().head(n), e.covariance().topLeftCorner(n, n), e.landmark_count()};
 }
 
@@ -736,14 +754,20 @@ class Session {
     const auto P = e.covariance().topLeftCorner(n, n);
     expect(x.allFinite(), "x not finite");
     expect(P.allFinite(), "P not finite");
-    expect(P == P.transpose(), "P not symmetric");
+    // P == P^T: the diagonal equals itself, P being finite.
+    for (int j = 0; j < n; ++j) {
+      for (int i = j + 1; i < n; ++i) {
+        expect(P(i, j) == P(j, i), "P not symmetric");
+      }
+    }
+    // Row i of the symmetric P is its column i, which is contiguous.
     for (int i = 0; i < n; ++i) {
       const int slot = (i - hal::kPoseDim) / hal::kLandmarkDim;
       const bool live = i < hal::kPoseDim || used_mask[static_cast<std::size_t>(slot)];
       if (!live) {
-        expect(x(i) == 0.0 && P.row(i).isZero(0.0), "row of an unused slot not zero");
+        expect(x(i) == 0.0 && P.col(i).isZero(0.0), "row of an unused slot not zero");
       } else {
-        expect(P(i, i) >= -kPsdTolerance * P.row(i).cwiseAbs().maxCoeff(),
+        expect(P(i, i) >= -kPsdTolerance * P.col(i).cwiseAbs().maxCoeff(),
                "negative variance on the diagonal of P");
       }
     }
@@ -753,8 +777,8 @@ class Session {
 
   // After each change of P that is not an update in progress.
   void check_psd() const {
-    const int n = filter_.active_dim();
-    expect(positive_semidefinite(Eigen::MatrixXd(filter_.covariance().topLeftCorner(n, n))),
+    const int n = bounded_active_dim(filter_);
+    expect(positive_semidefinite(ActiveMatrix(filter_.covariance().topLeftCorner(n, n))),
            "P not positive semi-definite");
   }
 
