@@ -53,6 +53,13 @@ using cleanslam::slam_core::PredictResult;
 using cleanslam::slam_core::Vector6d;
 
 constexpr int kMaxOperations = 32;
+// The largest pool the setup chooses, and the state it spans: snapshots and copies of P are held
+// at that size without allocating.
+constexpr int kMaxPool = 12;
+constexpr int kMaxActiveDim = hal::kPoseDim + hal::kLandmarkDim * kMaxPool;
+using ActiveVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxActiveDim, 1>;
+using ActiveMatrix =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxActiveDim, kMaxActiveDim>;
 // Relative tolerance of the positive semi-definiteness checks (eigenvalues, diagonal).
 constexpr double kPsdTolerance = 1e-9;
 
@@ -165,15 +172,18 @@ Setup read_setup(ByteReader& in) {
     s.calibration.camera.distortion = {-0.1, 0.02, 0.0005, -0.0003};
   }
   c.min_ray_motion_angle_rad = bit(15) ? 0.0 : c.min_ray_motion_angle_rad;
-  c.max_landmarks = s.bytes[2] % 13;
+  c.max_landmarks = s.bytes[2] % (kMaxPool + 1);
   // The filters' key: the bits and the pool size read above.
-  s.bytes[1] &= 0xFCU;
+  s.bytes[0] &= 0x63U;
+  s.bytes[1] &= 0xACU;
   s.bytes[2] = static_cast<std::uint8_t>(c.max_landmarks);
   return s;
 }
 
 // Construction allocates and clears about 2 MB a filter, several times the cost of a short input:
-// the filters of the most recently used setups are kept, and reset for each input.
+// the filters of the 256 most recently used setups (about 1 GB, within libFuzzer's default RSS
+// limit of 2 GB) are kept, and reset for each input. The key holds only the bits read_setup reads,
+// so that inputs that differ in the unused ones share their filters.
 struct Filters {
   std::array<std::uint8_t, 3> setup_bytes{};
   std::uint64_t last_use = 0;
@@ -182,7 +192,7 @@ struct Filters {
 };
 
 Filters& filters_for(const Setup& s) {
-  static std::array<Filters, 64> cache;
+  static std::array<Filters, 256> cache;
   static std::uint64_t uses = 0;
   Filters* oldest = &cache.front();
   for (Filters& f : cache) {
@@ -199,14 +209,25 @@ Filters& filters_for(const Setup& s) {
   return *oldest;
 }
 
+// active_dim, which check_filter bounds by the pool after every operation, within kMaxActiveDim.
+int bounded_active_dim(const Ekf& e) {
+  const int n = e.active_dim();
+  if (n < 0 || n > kMaxActiveDim) {
+    std::fprintf(stderr, "fuzz_ekf: active_dim %d beyond the largest pool's %d\n", n,
+                 kMaxActiveDim);
+    std::abort();
+  }
+  return n;
+}
+
 struct Snapshot {
-  Eigen::VectorXd x;
-  Eigen::MatrixXd P;
+  ActiveVector x;
+  ActiveMatrix P;
   int landmarks = 0;
 };
 
 Snapshot snapshot(const Ekf& e) {
-  const int n = e.active_dim();
+  const int n = bounded_active_dim(e);
   return {e.state().head(n), e.covariance().topLeftCorner(n, n), e.landmark_count()};
 }
 
@@ -390,8 +411,9 @@ class Session {
     }
     const int count = filter_.landmark_count();
     int k = count > 0 ? b % count : -1;
+    const auto& used = filter_.used_mask();
     for (int s = 0; s < hal::kMaxLandmarks; ++s) {
-      if (filter_.slot_used(s) && k-- == 0) {
+      if (used[static_cast<std::size_t>(s)] && k-- == 0) {
         return s;
       }
     }
@@ -718,8 +740,9 @@ class Session {
     const Ekf& e = filter_;
     int highest = -1;
     int used = 0;
+    const auto& used_mask = e.used_mask();
     for (int s = 0; s < hal::kMaxLandmarks; ++s) {
-      if (e.slot_used(s)) {
+      if (used_mask[static_cast<std::size_t>(s)]) {
         expect(s < max_slots_, "landmark in an excess slot");
         highest = s;
         ++used;
@@ -733,14 +756,20 @@ class Session {
     const auto P = e.covariance().topLeftCorner(n, n);
     expect(x.allFinite(), "x not finite");
     expect(P.allFinite(), "P not finite");
-    expect(P == P.transpose(), "P not symmetric");
+    // P == P^T: the diagonal equals itself, P being finite.
+    for (int j = 0; j < n; ++j) {
+      for (int i = j + 1; i < n; ++i) {
+        expect(P(i, j) == P(j, i), "P not symmetric");
+      }
+    }
+    // Row i of the symmetric P is its column i, which is contiguous.
     for (int i = 0; i < n; ++i) {
       const int slot = (i - hal::kPoseDim) / hal::kLandmarkDim;
-      const bool live = i < hal::kPoseDim || e.slot_used(slot);
+      const bool live = i < hal::kPoseDim || used_mask[static_cast<std::size_t>(slot)];
       if (!live) {
-        expect(x(i) == 0.0 && P.row(i).isZero(0.0), "row of an unused slot not zero");
+        expect(x(i) == 0.0 && P.col(i).isZero(0.0), "row of an unused slot not zero");
       } else {
-        expect(P(i, i) >= -kPsdTolerance * P.row(i).cwiseAbs().maxCoeff(),
+        expect(P(i, i) >= -kPsdTolerance * P.col(i).cwiseAbs().maxCoeff(),
                "negative variance on the diagonal of P");
       }
     }
@@ -750,8 +779,8 @@ class Session {
 
   // After each change of P that is not an update in progress.
   void check_psd() const {
-    const int n = filter_.active_dim();
-    expect(positive_semidefinite(Eigen::MatrixXd(filter_.covariance().topLeftCorner(n, n))),
+    const int n = bounded_active_dim(filter_);
+    expect(positive_semidefinite(ActiveMatrix(filter_.covariance().topLeftCorner(n, n))),
            "P not positive semi-definite");
   }
 
