@@ -245,6 +245,8 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
   if (!positive_semidefinite(Pn)) {
     return reject(PredictResult::kNotPositiveDefinite);
   }
+  // Rounding of denormal variances can leave one a hair below zero.
+  Pn.diagonal() = Pn.diagonal().cwiseMax(0.0);
   last_motion_w_ = G.topLeftCorner<3, 3>() * ub.head<3>();
   x_.head<6>() = predicted;
   x_(3) = wrap_angle(x_(3));
