@@ -2,6 +2,8 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <sstream>
 
 #include "cleanslam/hal/calibration.hpp"
@@ -365,13 +367,44 @@ std::string fmt(double v) {
   return readers::format_double(v);
 }
 
+// A YAML double-quoted scalar that reads back as s: quotes, backslashes and every character YAML
+// does not print (controls, C1 controls, line and paragraph separators, the byte order mark) are
+// escaped; a raw line break would be folded into a space when read back.
 std::string quoted(const std::string& s) {
   std::string out = "\"";
-  for (char c : s) {
+  char buf[16];
+  for (std::size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    std::size_t n = 1;
+    std::uint32_t cp = c;
+    if (c >= 0xC0 && c < 0xE0 && i + 1 < s.size()) {
+      n = 2;
+      cp = ((c & 0x1FU) << 6) | (static_cast<unsigned char>(s[i + 1]) & 0x3FU);
+    } else if (c >= 0xE0 && c < 0xF0 && i + 2 < s.size()) {
+      n = 3;
+      cp = ((c & 0x0FU) << 12) | ((static_cast<unsigned char>(s[i + 1]) & 0x3FU) << 6) |
+           (static_cast<unsigned char>(s[i + 2]) & 0x3FU);
+    } else if (c >= 0xF0 && i + 3 < s.size()) {
+      n = 4;  // beyond the characters escaped below
+      cp = 0x10000;
+    }
     if (c == '"' || c == '\\') {
       out += '\\';
+      out += static_cast<char>(c);
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (cp < 0x20 || cp == 0x7F || (cp >= 0x80 && cp < 0xA0)) {
+      std::snprintf(buf, sizeof buf, "\\x%02X", static_cast<unsigned>(cp));
+      out += buf;
+    } else if (cp == 0x2028 || cp == 0x2029 || cp == 0xFEFF || cp == 0xFFFE || cp == 0xFFFF) {
+      std::snprintf(buf, sizeof buf, "\\u%04X", static_cast<unsigned>(cp));
+      out += buf;
+    } else {
+      out.append(s, i, n);
     }
-    out += c;
+    i += n;
   }
   return out + "\"";
 }

@@ -55,6 +55,27 @@ TEST(Config, CanonicalTextReadsBackToTheSameConfiguration) {
   EXPECT_EQ(config_text(b.config), text);
 }
 
+TEST(Config, PathsWithLineBreaksAndUnprintableCharactersReadBackUnchanged) {
+  // A line break, a tab, a control character, a quote and a backslash; NEL, the line separator
+  // and a byte order mark (YAML folds or refuses them raw); an accented letter and an emoji.
+  const std::string path =
+      "a\nb\tc\x01d\"e\\f\xC2\x85g\xE2\x80\xA8h\xEF\xBB\xBFi\xC3\xA9j\xF0\x9F\x98\x80k";
+  FirmwareConfig c;
+  c.source.kind = firmware::SourceSettings::Kind::kLog;
+  c.source.path = path;
+  const std::string text = config_text(c);
+  const ConfigResult back = parse_config(text, "written.yaml", {});
+  ASSERT_TRUE(back.ok()) << joined(back.errors) << "\n" << text;
+  EXPECT_EQ(back.config.source.path, path);
+  EXPECT_EQ(config_text(back.config), text);
+  // A double-quoted path over two lines is folded when read (the fuzzer's case).
+  const ConfigResult folded =
+      parse_config("source:\n  kind: log\n  path: \"x\n\n  y\n  z\"\n", "f.yaml", {});
+  ASSERT_TRUE(folded.ok()) << joined(folded.errors);
+  EXPECT_EQ(folded.config.source.path, "x\ny z");
+  EXPECT_EQ(parse_config(config_text(folded.config), "w.yaml", {}).config.source.path, "x\ny z");
+}
+
 TEST(Config, WrongTypeOrRangeNamesFileLineAndKey) {
   const ConfigResult r = parse_config(
       "loop:\n  publish_rate_hz: fast\n  frame_rate_hz: 100\nfilter:\n  max_landmarks: 500\n"
