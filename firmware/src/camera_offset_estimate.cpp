@@ -44,6 +44,7 @@ void CameraOffsetEstimate::add_gyro(const hal::GyroSample& s) {
   if (turn_count_ > 0) {
     const Turn& prev = turns_[static_cast<std::size_t>(newest_)];
     const double dt = hal::to_seconds(s.t_ns - prev.t_ns);
+    next.span = s.t_ns - prev.t_ns > kMaxGyroGapNs ? prev.span + 1 : prev.span;
     for (std::size_t i = 0; i < 3; ++i) {
       next.angle[i] = prev.angle[i] + 0.5 * (prev.rate[i] + next.rate[i]) * dt;
     }
@@ -68,7 +69,8 @@ void CameraOffsetEstimate::evaluate_ready_pairs() {
   }
 }
 
-bool CameraOffsetEstimate::turn_at(hal::TimeNs t_ns, std::array<double, 3>& angle) const {
+bool CameraOffsetEstimate::turn_at(hal::TimeNs t_ns, std::array<double, 3>& angle,
+                                   std::uint64_t& span) const {
   const auto at = [this](int k) -> const Turn& {  // k = 0: the oldest kept sample
     return turns_[static_cast<std::size_t>((newest_ - turn_count_ + 1 + k + kTurns) % kTurns)];
   };
@@ -86,6 +88,7 @@ bool CameraOffsetEstimate::turn_at(hal::TimeNs t_ns, std::array<double, 3>& angl
   if (b.t_ns - a.t_ns > kMaxGyroGapNs) {
     return false;
   }
+  span = a.span;
   const double f = b.t_ns > a.t_ns
                        ? static_cast<double>(t_ns - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns)
                        : 0.0;
@@ -142,8 +145,11 @@ void CameraOffsetEstimate::evaluate(const Pair& p) {
     const double d = configured_s_ - kRangeS + j * candidate_step_s();
     std::array<double, 3> ta{};
     std::array<double, 3> tb{};
-    if (!turn_at(hal::add_saturated(a.t_ns, hal::from_seconds(d)), ta) ||
-        !turn_at(hal::add_saturated(b.t_ns, hal::from_seconds(d)), tb)) {
+    std::uint64_t span_a = 0;
+    std::uint64_t span_b = 0;
+    if (!turn_at(hal::add_saturated(a.t_ns, hal::from_seconds(d)), ta, span_a) ||
+        !turn_at(hal::add_saturated(b.t_ns, hal::from_seconds(d)), tb, span_b) ||
+        span_a != span_b) {
       return;
     }
     std::array<double, 3> w{};  // the camera's turn, in its own frame

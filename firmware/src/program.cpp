@@ -501,10 +501,11 @@ void print_camera_offset(const CameraOffsetEstimate::Result& c, std::FILE* out) 
                  static_cast<unsigned long long>(c.pairs));
     return;
   }
-  std::fprintf(out,
-               "cleanslam: camera time offset: the data suggest %+.3f s (std. dev. %.3f s, %llu "
-               "points seen in consecutive frames); camera.time_offset_s is %+.3f s\n",
-               c.suggested_s, c.std_s, static_cast<unsigned long long>(c.pairs), c.configured_s);
+  std::fprintf(
+      out,
+      "cleanslam: camera time offset: the data suggest %+.3f s (+- %.4f s from the "
+      "scatter, %llu points seen in consecutive frames); camera.time_offset_s is %+.3f s\n",
+      c.suggested_s, c.std_s, static_cast<unsigned long long>(c.pairs), c.configured_s);
   const double d = c.suggested_s - c.configured_s;
   if (std::abs(d) > CameraOffsetEstimate::kWarnS && std::abs(d) > 3.0 * c.std_s) {
     std::fprintf(out, "cleanslam: warning: camera.time_offset_s looks off by %+.3f s\n", d);

@@ -45,6 +45,7 @@ class CameraOffsetEstimate {
     hal::TimeNs t_ns = 0;
     std::array<double, 3> angle{};
     std::array<double, 3> rate{};
+    std::uint64_t span = 0;  // counts the gyro's gaps: a turn across one is unknown
   };
   struct Point {
     std::int64_t track = -1;
@@ -56,7 +57,7 @@ class CameraOffsetEstimate {
     Point a;
     Point b;
   };
-  bool turn_at(hal::TimeNs t_ns, std::array<double, 3>& angle) const;
+  bool turn_at(hal::TimeNs t_ns, std::array<double, 3>& angle, std::uint64_t& span) const;
   // Pairs wait until the gyro has passed the later frame's latest candidate instant.
   void evaluate_ready_pairs();
   void evaluate(const Pair& p);
