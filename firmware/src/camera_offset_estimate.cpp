@@ -58,7 +58,9 @@ void CameraOffsetEstimate::add_gyro(const hal::GyroSample& s) {
 void CameraOffsetEstimate::evaluate_ready_pairs() {
   const hal::TimeNs latest = hal::from_seconds(configured_s_ + kRangeS);
   const hal::TimeNs gyro_ns = turns_[static_cast<std::size_t>(newest_)].t_ns;
-  while (pending_count_ > 0) {
+  // A few pairs per gyro sample: a frame's pairs become ready together, and the loop's tick is
+  // bounded.
+  for (int done = 0; pending_count_ > 0 && done < kPairsPerGyroSample; ++done) {
     const Pair& p = pending_[static_cast<std::size_t>(pending_first_)];
     if (hal::add_saturated(p.b.t_ns, latest) > gyro_ns) {
       return;
@@ -69,22 +71,29 @@ void CameraOffsetEstimate::evaluate_ready_pairs() {
   }
 }
 
-bool CameraOffsetEstimate::turn_at(hal::TimeNs t_ns, std::array<double, 3>& angle,
+const CameraOffsetEstimate::Turn& CameraOffsetEstimate::turn(int k) const {
+  return turns_[static_cast<std::size_t>((newest_ - turn_count_ + 1 + k + kTurns) % kTurns)];
+}
+
+bool CameraOffsetEstimate::turn_at(hal::TimeNs t_ns, int& k, std::array<double, 3>& angle,
                                    std::uint64_t& span) const {
-  const auto at = [this](int k) -> const Turn& {  // k = 0: the oldest kept sample
-    return turns_[static_cast<std::size_t>((newest_ - turn_count_ + 1 + k + kTurns) % kTurns)];
-  };
-  if (turn_count_ < 2 || t_ns < at(0).t_ns || t_ns > at(turn_count_ - 1).t_ns) {
+  if (turn_count_ < 2 || t_ns < turn(0).t_ns || t_ns > turn(turn_count_ - 1).t_ns) {
     return false;
   }
-  int lo = 0;
-  int hi = turn_count_ - 1;
-  while (hi - lo > 1) {
-    const int mid = (lo + hi) / 2;
-    (at(mid).t_ns <= t_ns ? lo : hi) = mid;
+  if (k < 0 || turn(k).t_ns > t_ns) {  // no usable hint: bisect
+    int lo = 0;
+    int hi = turn_count_ - 1;
+    while (hi - lo > 1) {
+      const int mid = (lo + hi) / 2;
+      (turn(mid).t_ns <= t_ns ? lo : hi) = mid;
+    }
+    k = lo;
   }
-  const Turn& a = at(lo);
-  const Turn& b = at(hi);
+  while (k + 2 < turn_count_ && turn(k + 1).t_ns <= t_ns) {
+    ++k;
+  }
+  const Turn& a = turn(k);
+  const Turn& b = turn(std::min(k + 1, turn_count_ - 1));
   if (b.t_ns - a.t_ns > kMaxGyroGapNs) {
     return false;
   }
@@ -141,14 +150,16 @@ void CameraOffsetEstimate::evaluate(const Pair& p) {
   const double du = b.u - a.u;
   const double dv = b.v - a.v;
   std::array<double, kCandidates> err{};
+  int ka = -1;  // the candidates' instants ascend: each lookup starts where the last ended
+  int kb = -1;
   for (int j = 0; j < kCandidates; ++j) {
     const double d = configured_s_ - kRangeS + j * candidate_step_s();
     std::array<double, 3> ta{};
     std::array<double, 3> tb{};
     std::uint64_t span_a = 0;
     std::uint64_t span_b = 0;
-    if (!turn_at(hal::add_saturated(a.t_ns, hal::from_seconds(d)), ta, span_a) ||
-        !turn_at(hal::add_saturated(b.t_ns, hal::from_seconds(d)), tb, span_b) ||
+    if (!turn_at(hal::add_saturated(a.t_ns, hal::from_seconds(d)), ka, ta, span_a) ||
+        !turn_at(hal::add_saturated(b.t_ns, hal::from_seconds(d)), kb, tb, span_b) ||
         span_a != span_b) {
       return;
     }

@@ -482,17 +482,6 @@ int run_normal(const Args& args) {
   return 0;
 }
 
-}  // namespace
-
-LoopOptions loop_options(const FirmwareConfig& config) {
-  LoopOptions o = config.loop;
-  o.image_width = config.calibration.camera.width;
-  o.image_height = config.calibration.camera.height;
-  o.camera = config.calibration.camera;
-  return o;
-}
-
-namespace {
 void print_camera_offset(const CameraOffsetEstimate::Result& c, std::FILE* out) {
   if (!c.measurable) {
     std::fprintf(out,
@@ -512,6 +501,14 @@ void print_camera_offset(const CameraOffsetEstimate::Result& c, std::FILE* out) 
   }
 }
 }  // namespace
+
+LoopOptions loop_options(const FirmwareConfig& config) {
+  LoopOptions o = config.loop;
+  o.image_width = config.calibration.camera.width;
+  o.image_height = config.calibration.camera.height;
+  o.camera = config.calibration.camera;
+  return o;
+}
 
 void print_summary(const Loop& loop, std::FILE* out) {
   const LoopStats& s = loop.stats();

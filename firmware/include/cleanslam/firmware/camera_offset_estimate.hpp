@@ -57,7 +57,10 @@ class CameraOffsetEstimate {
     Point a;
     Point b;
   };
-  bool turn_at(hal::TimeNs t_ns, std::array<double, 3>& angle, std::uint64_t& span) const;
+  [[nodiscard]] const Turn& turn(int k) const;  // k = 0: the oldest kept sample
+  // The turn at t_ns, from the samples k and k + 1 around it; k is where to start looking (a
+  // later t_ns than the last call's walks on from there, -1 bisects) and is updated.
+  bool turn_at(hal::TimeNs t_ns, int& k, std::array<double, 3>& angle, std::uint64_t& span) const;
   // Pairs wait until the gyro has passed the later frame's latest candidate instant.
   void evaluate_ready_pairs();
   void evaluate(const Pair& p);
@@ -65,6 +68,7 @@ class CameraOffsetEstimate {
   static constexpr int kTurns = 1024;   // 10 s of a 100 Hz gyro
   static constexpr int kPoints = 64;    // points of the last frame
   static constexpr int kPending = 128;  // pairs waiting for the gyro
+  static constexpr int kPairsPerGyroSample = 4;
   static constexpr hal::TimeNs kMaxFrameGapNs = 1'500'000'000;
   static constexpr double kMaxPairErrorPx = 10.0;
 

@@ -49,10 +49,9 @@ struct DeadReckoningConfig {
   // Ornstein-Uhlenbeck process with time constant outage_speed_time_constant_s (tau) and std. dev.
   // outage_speed_std_m_s (sigma_v), so the distance's variance is 2 sigma_v^2 tau^2 (x - 1 + e^-x)
   // after x = t / tau: (sigma_v t)^2 while the error persists, 2 sigma_v^2 tau per second in the
-  // long run. Where the gyro's record does not cover an
-  // increment, the heading walks with rate std. dev. outage_yaw_rate_std_rad_s over tau. The first
-  // encoder sample after the outage starts the wheels' count again: the outage's motion is the
-  // model's.
+  // long run. Where the gyro's record does not cover an increment, the heading walks with rate
+  // std. dev. outage_yaw_rate_std_rad_s over tau. The first encoder sample after the outage starts
+  // the wheels' count again: the outage's motion is the model's.
   double outage_speed_time_constant_s = 10.0;
   double outage_speed_std_m_s = 0.1;
   double outage_yaw_rate_std_rad_s = 1.0;
