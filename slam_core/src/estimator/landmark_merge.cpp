@@ -25,7 +25,13 @@ ObservationResult Ekf::merge_landmarks(int keep, int drop, double gate_chi2, dou
   PHt = P_.block(0, a, n, 3) - P_.block(0, b, n, 3);
   Eigen::Matrix3d S = PHt.middleRows<3>(a) - PHt.middleRows<3>(b);
   S = (0.5 * (S + S.transpose())).eval();
-  S.diagonal().array() += merge_std_m * merge_std_m;
+  // An exact constraint conditions P on a direction S may barely span, which amplifies P's own
+  // rounding by |P| / lambda_min(S) even in exact arithmetic (found by fuzzing: merge_std_m 0 of
+  // two almost perfectly correlated landmarks left P indefinite). No constraint is tighter than
+  // kMergeVarianceFloor of the difference's largest variance.
+  constexpr double kMergeVarianceFloor = 1e-9;
+  S.diagonal().array() +=
+      std::max(merge_std_m * merge_std_m, kMergeVarianceFloor * S.diagonal().maxCoeff());
   const Eigen::LLT<Eigen::Matrix3d> llt(S);
   if (llt.info() != Eigen::Success) {
     return ObservationResult::kNotPositiveDefinite;

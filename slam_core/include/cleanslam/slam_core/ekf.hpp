@@ -90,10 +90,10 @@ class Ekf {
 
   // Two slots that hold the same point (a landmark mapped again after the pose was lost, and its
   // earlier map entry): the linear update with the constraint y_keep - y_drop = 0 (std. dev.
-  // merge_std_m per axis), gated at gate_chi2 on its 3 dof (none
-  // when not above 0), then drop is deleted (EkfConfig::merge_considers_kept: keep is a
-  // considered state). kFused when merged; kGate, kNotPositiveDefinite, kOutOfRange or
-  // kInvalidSlot (nothing changed) otherwise.
+  // merge_std_m per axis, and never below 3e-5 of the difference's largest std. dev.), gated at
+  // gate_chi2 on its 3 dof (none when not above 0), then drop is deleted
+  // (EkfConfig::merge_considers_kept: keep is a considered state). kFused when merged; kGate,
+  // kNotPositiveDefinite, kOutOfRange or kInvalidSlot (nothing changed) otherwise.
   ObservationResult merge_landmarks(int keep, int drop, double gate_chi2,
                                     double merge_std_m = 0.01);
   // The last merge's test ratio (its innovation's squared Mahalanobis norm, 3 dof), gated or not;
