@@ -213,13 +213,16 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
   if (std::abs(static_cast<double>(dl_ticks)) > max_l ||
       std::abs(static_cast<double>(dr_ticks)) > max_r) {
     ++counters_.encoder_implausible;
-    // Re-anchor: the interval's motion is lost, the next interval is measured from here.
+    // Re-anchor: the interval's wheel motion is lost and the next interval is measured from
+    // here. The segment given out so far stands (the gyro's heading goes on from its end); of
+    // what a take extrapolated past the last sample, the part beyond this one stays pending.
+    const double beyond =
+        seg_t_ > s.t_ns ? seconds(seg_t_ - s.t_ns) / seconds(seg_t_ - enc_t_) : 0.0;
+    pending_distance_ *= beyond;
+    pending_yaw_ *= beyond;
     enc_t_ = s.t_ns;
     enc_left_ = s.left_ticks;
     enc_right_ = s.right_ticks;
-    seg_t_ = s.t_ns;
-    pending_distance_ = 0.0;
-    pending_yaw_ = 0.0;
     wheel_speed_ = 0.0;
     enc_yaw_rate_ = 0.0;
     last_motion_t_ = s.t_ns;

@@ -520,3 +520,31 @@ TEST(DeadReckoner, WheelYawFusionHoldsTheHeadingBetterThanANoisyGyro) {
   std::printf("60 s heading change error: gyro %.3f rad, gyro and wheels %.3f rad\n", gyro, fused);
   EXPECT_LT(fused, 0.7 * gyro);
 }
+
+// A sample the plausibility check refuses costs its interval's wheel motion, never the gyro's
+// heading: stamped before the end of a take that extrapolated past the last good sample, and after.
+TEST(DeadReckoner, AnImplausibleEncoderSampleLosesNoHeading) {
+  for (const hal::TimeNs jump_t : {1520 * kMs, 1540 * kMs}) {
+    const hal::Calibration cal;
+    cs::DeadReckoner dr(cal, cs::DeadReckoningConfig{});
+    Drive drive(dr, cal);
+    drive.v = [](double) { return 0.2; };
+    drive.w = [](double) { return 0.5; };
+    drive.run_until(0);
+    dr.take_increment(0);
+    drive.run_until(1530 * kMs);  // the last good sample at 1.5 s: the take extrapolates
+    double yaw_sum = dr.take_increment(1530 * kMs).dpsi_c.z();
+    drive.run_until(jump_t);
+    hal::EncoderSample jump;
+    jump.t_ns = jump_t;
+    jump.left_ticks = 1 << 30;
+    jump.right_ticks = -(1 << 30);
+    EXPECT_FALSE(dr.add_encoder(jump));
+    EXPECT_EQ(dr.counters().encoder_implausible, 1U);
+    for (hal::TimeNs t : {2010 * kMs, 2600 * kMs, 3000 * kMs}) {
+      drive.run_until(t);
+      yaw_sum += dr.take_increment(t).dpsi_c.z();
+    }
+    EXPECT_NEAR(yaw_sum, drive.yaw, 1e-3) << "implausible sample at " << jump_t / kMs << " ms";
+  }
+}
