@@ -5,16 +5,7 @@ CLEANSLAM=$2
 REPLAY=$3
 SIM=$4
 WORK=$5
-rm -rf "$WORK"
-mkdir -p "$WORK"
-run() {
-  # shellcheck disable=SC2086
-  $EMU "$@"
-}
-fail() {
-  echo "FAIL: $*" >&2
-  exit 1
-}
+. "$(dirname "$0")/../shell/helpers.sh"
 # A short simulated run: features-level dataset with faults of the scenario.
 simulate() {
   run "$SIM" default-room "$WORK/ds" --set duration_s=20 >"$WORK/sim.log" 2>&1 ||

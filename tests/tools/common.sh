@@ -4,16 +4,7 @@ EMU=$1
 BIN=$2
 SRC=$3
 WORK=$4
-rm -rf "$WORK"
-mkdir -p "$WORK"
-run() {
-  # shellcheck disable=SC2086
-  $EMU "$@"
-}
-fail() {
-  echo "FAIL: $*" >&2
-  exit 1
-}
+. "$(dirname "$0")/../shell/helpers.sh"
 # expect STATUS FILE TEXT COMMAND...: COMMAND exits with STATUS and its stderr (kept in FILE)
 # holds TEXT.
 expect() {
