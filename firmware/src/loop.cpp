@@ -226,8 +226,8 @@ void Loop::ingest_frame(const hal::CameraFrame& f, hal::TimeNs now) {
     count(Reject::kBadFrame);
     return;
   }
-  if (image && options_.image_width > 0 &&
-      (f.image.width != options_.image_width || f.image.height != options_.image_height)) {
+  if (image &&
+      (f.image.width != options_.camera.width || f.image.height != options_.camera.height)) {
     count(Reject::kImageSize);
     return;
   }

@@ -504,8 +504,6 @@ void print_camera_offset(const CameraOffsetEstimate::Result& c, std::FILE* out) 
 
 LoopOptions loop_options(const FirmwareConfig& config) {
   LoopOptions o = config.loop;
-  o.image_width = config.calibration.camera.width;
-  o.image_height = config.calibration.camera.height;
   o.camera = config.calibration.camera;
   return o;
 }

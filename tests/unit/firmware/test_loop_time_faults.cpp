@@ -139,10 +139,7 @@ TEST(LoopTimeFaults, FramesOfAnotherSizeThanCalibratedAreRefusedAndToldOnce) {
                                      [](hal::TimeNs v, const auto& item) { return v < item.due; });
     src.items.insert(at, {t, ev});
   }
-  LoopOptions options;
-  options.image_width = hal::kImageWidth;
-  options.image_height = hal::kImageHeight;
-  Loop loop(options, est);
+  Loop loop(LoopOptions{}, est);
   loop.add_source(&src);
   FirstRejects observer;
   loop.set_health_observer(&observer);

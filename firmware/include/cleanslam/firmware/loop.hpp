@@ -26,9 +26,8 @@ struct LoopOptions {
   hal::TimeNs max_lead_ns = 10 * hal::kNsPerMillisecond;
   hal::TimeNs max_span_ns = hal::kDefaultMaxSpanNs;
   int frame_work_budget = 64;  // pipeline work units per loop iteration
-  int image_width = 0;         // the calibrated image size; 0: any size within the capacity
-  int image_height = 0;
-  hal::CameraCalibration camera;  // the calibrated camera, for the time offset the data suggest
+  // The calibrated camera: a frame of another size is refused; the time offset the data suggest.
+  hal::CameraCalibration camera;
 };
 
 // The per-update diagnostics records, as the frame pipeline finishes each frame.
