@@ -166,6 +166,15 @@ void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt,
   in.gyro_used = in.gyro_used && gyro;
 }
 
+void DeadReckoner::count_from(const hal::EncoderSample& s) {
+  enc_t_ = s.t_ns;
+  enc_left_ = s.left_ticks;
+  enc_right_ = s.right_ticks;
+  wheel_speed_ = 0.0;
+  enc_yaw_rate_ = 0.0;
+  last_motion_t_ = s.t_ns;
+}
+
 bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
   if (have_encoder_ && s.t_ns < enc_t_) {
     ++counters_.encoder_out_of_order;
@@ -183,25 +192,17 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
     if (seg_t_ < s.t_ns) {
       coast(s.t_ns);
     }
-    enc_t_ = s.t_ns;
-    enc_left_ = s.left_ticks;
-    enc_right_ = s.right_ticks;
     pending_distance_ = 0.0;
     pending_yaw_ = 0.0;
     pending_fused_correction_ = 0.0;
-    wheel_speed_ = 0.0;
-    enc_yaw_rate_ = 0.0;
-    last_motion_t_ = s.t_ns;
+    count_from(s);
     ++counters_.encoder_accepted;
     return true;
   }
   if (!have_encoder_) {
     have_encoder_ = true;
-    enc_t_ = s.t_ns;
-    enc_left_ = s.left_ticks;
-    enc_right_ = s.right_ticks;
     seg_t_ = s.t_ns;
-    last_motion_t_ = s.t_ns;
+    count_from(s);
     ++counters_.encoder_accepted;
     return true;
   }
@@ -220,12 +221,7 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
         seg_t_ > s.t_ns ? seconds(seg_t_ - s.t_ns) / seconds(seg_t_ - enc_t_) : 0.0;
     pending_distance_ *= beyond;
     pending_yaw_ *= beyond;
-    enc_t_ = s.t_ns;
-    enc_left_ = s.left_ticks;
-    enc_right_ = s.right_ticks;
-    wheel_speed_ = 0.0;
-    enc_yaw_rate_ = 0.0;
-    last_motion_t_ = s.t_ns;
+    count_from(s);
     return false;
   }
   ++counters_.encoder_accepted;

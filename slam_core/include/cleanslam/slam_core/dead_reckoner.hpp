@@ -144,6 +144,8 @@ class DeadReckoner {
   // variance along the track (the outage's motion model).
   void step(double distance, double dyaw, double yaw_var, double dt, bool gyro, double wheels,
             double gyro_weight, double distance_var = 0.0);
+  // The wheels' counts are measured from sample s on, at rest until the next one.
+  void count_from(const hal::EncoderSample& s);
   // The increment from seg_t_ to t_ns by the outage's motion model (encoder_outage.cpp).
   void coast(hal::TimeNs t_ns);
   OdometryIncrement camera_increment(const Increment& inc, double dt_s) const;
