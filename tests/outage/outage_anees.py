@@ -17,10 +17,15 @@ import subprocess
 import sys
 
 import numpy as np
-from scipy.stats import chi2
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 GRID_S = 0.5
+
+
+def chi2_99(dof):
+    # Wilson-Hilferty: within 0.1 % of the exact quantile from a few degrees of freedom on.
+    z = 2.3263479
+    return dof * (1.0 - 2.0 / (9.0 * dof) + z * (2.0 / (9.0 * dof)) ** 0.5) ** 3
 
 
 def seeds_of(text):
@@ -82,7 +87,7 @@ def main():
         stack.append(n[i])
     anees = np.mean(np.array(stack), axis=0)
     dof = 3 * len(seeds)
-    q99 = chi2.ppf(0.99, dof) / dof
+    q99 = chi2_99(dof) / dof
     worst = int(np.argmax(anees))
     out = {"mode": a.mode, "sensor": a.sensor, "seconds": a.seconds, "seeds": a.seeds,
            "per_seed": reports, "mean_ate_m": float(np.mean([r["ate_m"] for r in reports])),
