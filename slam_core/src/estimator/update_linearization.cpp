@@ -1,5 +1,6 @@
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <span>
 
 #include "cleanslam/slam_core/camera_frame_measurement.hpp"
@@ -35,9 +36,9 @@ bool Ekf::linearization_pose(const Observation* obs, int count, Vector6d& pose) 
   const Matrix6d Ppp = P_.topLeftCorner<6, 6>();
   constexpr std::array<int, 3> kPlanar = {0, 1, 5};
   Eigen::Matrix3d P0;
-  for (int a = 0; a < 3; ++a) {
-    for (int b = 0; b < 3; ++b) {
-      P0(a, b) = Ppp(kPlanar[a], kPlanar[b]);
+  for (std::size_t a = 0; a < kPlanar.size(); ++a) {
+    for (std::size_t b = 0; b < kPlanar.size(); ++b) {
+      P0(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) = Ppp(kPlanar[a], kPlanar[b]);
     }
   }
   const Eigen::LLT<Eigen::Matrix3d> prior_llt(P0);
@@ -58,8 +59,8 @@ bool Ekf::linearization_pose(const Observation* obs, int count, Vector6d& pose) 
     const int lm = row_of(o.slot);
     s.y = x_.segment<3>(lm);
     Eigen::Matrix3d Pyq;
-    for (int b = 0; b < 3; ++b) {
-      Pyq.col(b) = P_.block<3, 1>(lm, kPlanar[b]);
+    for (std::size_t b = 0; b < kPlanar.size(); ++b) {
+      Pyq.col(static_cast<Eigen::Index>(b)) = P_.block<3, 1>(lm, kPlanar[b]);
     }
     s.G = prior_llt.solve(Pyq.transpose()).transpose();
     s.Pyy = P_.block<3, 3>(lm, lm) - s.G * Pyq.transpose();

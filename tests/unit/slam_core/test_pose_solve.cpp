@@ -182,10 +182,12 @@ TEST(PoseSolve, UpdateStartsFromTheSolvedPoseOnlyBeyondTheLinearRange) {
 TEST(PoseSolve, OneSightingOrOneThatDoesNotFitIsNoPlaceToLinearizeAt) {
   const hal::Calibration calibration;
   const Eigen::Vector3d offset(0.35, -0.3, 0.25);
-  cs::Ekf a(calibration, cs::EkfConfig{});
-  const auto sa = cleanslam::test::make_pose_solve_scenario(a, 0.5, 0.3, offset);
-  a.update(sa.obs.data(), 1);
-  EXPECT_EQ(a.counters().pose_solves, 0U);
+  for (std::size_t i = 0; i < 4; ++i) {
+    cs::Ekf a(calibration, cs::EkfConfig{});
+    const auto sa = cleanslam::test::make_pose_solve_scenario(a, 0.5, 0.3, offset);
+    a.update(&sa.obs[i], 1);
+    EXPECT_EQ(a.counters().pose_solves, 0U) << "sighting " << i;
+  }
   // Two sightings swapped between their landmarks: no pose explains both.
   cs::Ekf b(calibration, cs::EkfConfig{});
   auto sb = cleanslam::test::make_pose_solve_scenario(b, 0.5, 0.3, offset);
