@@ -90,10 +90,10 @@ bool Ekf::linearization_pose(const Observation* obs, int count, Vector6d& pose) 
           noise, solved, fit)) {
     return false;
   }
-  // Only a pose the sightings over-determine (two or more, two dof each, against its three) that
-  // they also fit (chi-square, 99 %) is a better place to linearize at: one sighting cannot tell
-  // a wrong association from a pose that moved.
-  if (fit.sightings < 2 ||
+  // Only a pose the sightings determine twice over (three or more, two dof each, against its
+  // three) and that they fit (chi-square, 99 %) is a better place to linearize at: fewer leave too
+  // little redundancy to tell a wrong association or a wrong basin from a pose that moved.
+  if (fit.sightings < 3 ||
       !(fit.sightings_cost <= frontend::chi2_quantile_even(2 * fit.sightings, 0.99))) {
     return false;
   }

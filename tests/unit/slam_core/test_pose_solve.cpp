@@ -179,14 +179,17 @@ TEST(PoseSolve, UpdateStartsFromTheSolvedPoseOnlyBeyondTheLinearRange) {
   EXPECT_EQ(c.covariance(), d.covariance());
 }
 
-TEST(PoseSolve, OneSightingOrOneThatDoesNotFitIsNoPlaceToLinearizeAt) {
+TEST(PoseSolve, TwoSightingsOrOnesThatDoNotFitAreNoPlaceToLinearizeAt) {
   const hal::Calibration calibration;
   const Eigen::Vector3d offset(0.35, -0.3, 0.25);
   for (std::size_t i = 0; i < 4; ++i) {
-    cs::Ekf a(calibration, cs::EkfConfig{});
-    const auto sa = cleanslam::test::make_pose_solve_scenario(a, 0.5, 0.3, offset);
-    a.update(&sa.obs[i], 1);
-    EXPECT_EQ(a.counters().pose_solves, 0U) << "sighting " << i;
+    for (std::size_t j = i; j < 4; ++j) {
+      cs::Ekf a(calibration, cs::EkfConfig{});
+      const auto sa = cleanslam::test::make_pose_solve_scenario(a, 0.5, 0.3, offset);
+      const std::array<cs::Observation, 2> pair = {sa.obs[i], sa.obs[j]};
+      a.update(pair.data(), i == j ? 1 : 2);
+      EXPECT_EQ(a.counters().pose_solves, 0U) << "sightings " << i << ", " << j;
+    }
   }
   // Two sightings swapped between their landmarks: no pose explains both.
   cs::Ekf b(calibration, cs::EkfConfig{});
