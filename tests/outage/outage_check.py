@@ -97,6 +97,8 @@ def main():
     ap.add_argument("--nees-max", type=float, default=3.0, help="per degree of freedom")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--set", action="append", default=[])
+    ap.add_argument("--nees-out", help="write each pose's time from the start (s) and position "
+                    "NEES per dof here (CSV), for outage_anees.py")
     a = ap.parse_args()
     duration = a.duration or (a.start_s + a.seconds + 15.0)
     work = os.path.join(a.workdir, "%s_%s_%g" % (a.mode, a.sensor, a.seconds))
@@ -134,6 +136,11 @@ def main():
     sigma = np.array([math.sqrt(max(cov[round(t, 6)][0, 0], cov[round(t, 6)][1, 1]))
                       for t in est[:, 0]])
     err = np.linalg.norm(e[:, :2], axis=1)
+    if a.nees_out:
+        with open(a.nees_out, "w") as f:
+            f.write("#t_s,nees_per_dof,error_m,sigma_m\n")
+            for i in range(len(est)):
+                f.write("%.6f,%.6g,%.6g,%.6g\n" % (est[i, 0] - t_first, nees[i], err[i], sigma[i]))
     inside = (est[:, 0] >= t0) & (est[:, 0] < t1 + 2.0)
     after = est[:, 0] >= t1
 

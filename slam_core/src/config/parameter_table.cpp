@@ -103,6 +103,11 @@ constexpr std::array kSlamParameters{
     P{"filter.invariant_reset",
       [](SlamConfig& c) { return parameter_field(c.filter.invariant_reset); }, 1.0, 0.0, 1.0, false,
       "", "after each correction the covariance is carried to the new estimate (invariant EKF)"},
+    P{"filter.solve_pose_beyond_linear_range",
+      [](SlamConfig& c) { return parameter_field(c.filter.solve_pose_beyond_linear_range); }, 1.0,
+      0.0, 1.0, false, "",
+      "an update whose pose is too uncertain for its linearization starts from the pose its "
+      "established landmarks' sightings solve"},
     P{"filter.gate_pixel_chi2",
       [](SlamConfig& c) { return parameter_field(c.filter.gate_pixel_chi2); }, 9.21, 0.0, 1e6,
       false, "", "per-observation gate on the pixel innovation (chi-square, 2 dof, 99 %), 0: off"},

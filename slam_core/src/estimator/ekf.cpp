@@ -413,6 +413,16 @@ const UpdateStatus& Ekf::update(const Observation* obs, int count) {
   if (obs == nullptr || count < 0) {
     count = 0;
   }
+  const Vector6d prior_pose = x_.head<6>();
+  Vector6d offset = Vector6d::Zero();
+  Vector6d lin_pose;
+  if (config_.solve_pose_beyond_linear_range && linearization_pose(obs, count, lin_pose)) {
+    offset = lin_pose - prior_pose;
+    offset(3) = wrap_angle(offset(3));
+    offset(5) = wrap_angle(offset(5));
+    x_.head<6>() = lin_pose;  // measure() and pixel_gate() linearize here; restored below
+    ++counters_.pose_solves;
+  }
   int m = 0;
   for (int i = 0; i < count; ++i) {
     if (i >= hal::kMaxObservationsPerFrame) {
@@ -445,13 +455,15 @@ const UpdateStatus& Ekf::update(const Observation* obs, int count) {
                            HpPxl.transpose() + Hl * P_.block<3, 3>(lm, lm) * Hl.transpose() + R;
       Sj = 0.5 * (Sj + Sj.transpose()).eval();
       const Eigen::LLT<Eigen::Matrix3d> llt(Sj);
-      st.innovation = z - h;
+      // The iterated EKF's innovation: the measurement linearized at the solved pose, evaluated at
+      // the prior's.
+      st.innovation = z - h + Hp * offset;
       st.innovation_covariance = Sj;
       if (llt.info() != Eigen::Success) {
         r = ObservationResult::kNotPositiveDefinite;
       } else {
         st.test_ratio = st.innovation.dot(llt.solve(st.innovation)) / config_.gate_chi2;
-        r = pixel_gate(o, st);
+        r = pixel_gate(o, offset, st);
         if (r == ObservationResult::kFused && !(st.test_ratio <= 1.0)) {
           r = ObservationResult::kGate;
         }
@@ -472,6 +484,7 @@ const UpdateStatus& Ekf::update(const Observation* obs, int count) {
     nu_.segment<3>(3 * m) = st.innovation;
     ++m;
   }
+  x_.head<6>() = prior_pose;
   m_ = m;
   if (m == 0) {
     return status_;
@@ -511,7 +524,8 @@ void Ekf::finalize_update(ObservationResult r) {
   }
 }
 
-ObservationResult Ekf::pixel_gate(const Observation& o, ObservationStatus& st) const {
+ObservationResult Ekf::pixel_gate(const Observation& o, const Vector6d& offset,
+                                  ObservationStatus& st) const {
   if (!(config_.gate_pixel_chi2 > 0.0)) {
     return ObservationResult::kFused;
   }
@@ -520,6 +534,16 @@ ObservationResult Ekf::pixel_gate(const Observation& o, ObservationStatus& st) c
     return ObservationResult::kBehindCamera;
   }
   st.pixel_innovation = Eigen::Vector2d(o.u_px, o.v_px) - p.uv;
+  if (!offset.isZero(0.0)) {
+    Eigen::Vector2d uv;
+    Eigen::Matrix<double, 2, 6> Jp;
+    Eigen::Matrix<double, 2, 3> Jl;
+    double depth = 0.0;
+    if (!pixel_jacobian(o.slot, uv, Jp, Jl, depth)) {
+      return ObservationResult::kBehindCamera;
+    }
+    st.pixel_innovation += Jp * offset;
+  }
   const Eigen::LLT<Eigen::Matrix2d> llt(p.S);
   if (llt.info() != Eigen::Success) {
     return ObservationResult::kNotPositiveDefinite;

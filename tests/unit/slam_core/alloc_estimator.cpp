@@ -17,6 +17,7 @@
 #include "allocation_counter.hpp"
 #include "cleanslam/slam_core/dead_reckoner.hpp"
 #include "cleanslam/slam_core/ekf.hpp"
+#include "pose_solve_scenario.hpp"
 
 namespace cs = cleanslam::slam_core;
 namespace hal = cleanslam::hal;
@@ -306,4 +307,21 @@ TEST(EstimatorAllocation, DeadReckonerWithWheelYawFusionAllocatesNothing) {
   EXPECT_GT(k.windows_used, 5U);
   EXPECT_GT(k.windows_gated + k.intervals_gated, 5U);
   EXPECT_NEAR(run.distance, 59.503 * 0.2, 1e-3);
+}
+
+TEST(EstimatorAllocation, EkfUpdateFromASolvedPoseAllocatesNothing) {
+  const hal::Calibration calibration;
+  auto ekf = std::make_unique<cs::Ekf>(calibration, cs::EkfConfig{});
+  const auto sc =
+      cleanslam::test::make_pose_solve_scenario(*ekf, 0.4, 0.3, Eigen::Vector3d(0.35, -0.3, 0.25));
+  std::size_t allocations = 0;
+  {
+    Eigen::internal::set_is_malloc_allowed(false);
+    const cleanslam::test::AllocationScope scope;
+    ekf->update(sc.obs.data(), sc.count);
+    allocations = scope.count();
+    Eigen::internal::set_is_malloc_allowed(true);
+  }
+  EXPECT_EQ(allocations, 0U);
+  EXPECT_EQ(ekf->counters().pose_solves, 1U);
 }

@@ -15,6 +15,7 @@
 #include "cleanslam/slam_core/ekf_config.hpp"
 #include "cleanslam/slam_core/geometry.hpp"
 #include "cleanslam/slam_core/odometry_increment.hpp"
+#include "cleanslam/slam_core/pose_solve.hpp"
 #include "cleanslam/slam_core/update_status.hpp"
 
 // The paper's EKF (eq. 1-27, 39-45): camera pose plus a fixed pool of landmark slots; slot i
@@ -46,6 +47,7 @@ struct EkfCounters {
   std::uint64_t consider_observations = 0;  // fused with the consider (Schmidt) gain
   std::uint64_t landmarks_merged = 0;
   std::uint64_t merges_gated = 0;
+  std::uint64_t pose_solves = 0;  // updates linearized at a solved pose
 };
 
 class Ekf {
@@ -181,7 +183,14 @@ class Ekf {
                             Eigen::Matrix3d& Hl) const;
   bool pixel_jacobian(int slot, Eigen::Vector2d& uv, Eigen::Matrix<double, 2, 6>& Jp,
                       Eigen::Matrix<double, 2, 3>& Jl, double& depth) const;
-  ObservationResult pixel_gate(const Observation& o, ObservationStatus& st) const;
+  // offset: the linearization pose minus the prior's; the innovation is the iterated EKF's.
+  ObservationResult pixel_gate(const Observation& o, const Vector6d& offset,
+                               ObservationStatus& st) const;
+  // EkfConfig::solve_pose_beyond_linear_range: true, with the pose to linearize the update at,
+  // when the prior's pose is outside the linear range of a sighting of an established (not young)
+  // landmark and the solve converged.
+  bool linearization_pose(const Observation* obs, int count, Vector6d& pose);
+  [[nodiscard]] SightingNoise sighting_noise() const;
   enum class UpdatePhase : std::uint8_t { kNone, kGain, kGainRows, kCovariance };
   // One step of the pending update within the budget (all of it when the budget is 0).
   void run_update(std::int64_t budget);
@@ -218,6 +227,7 @@ class Ekf {
   std::array<Eigen::Matrix3d, hal::kMaxObservationsPerFrame> R_{};
   std::array<bool, hal::kMaxObservationsPerFrame> young_{};
   std::array<bool, hal::kMaxObservationsPerFrame> out_of_bounds_{};
+  std::array<PoseSighting, hal::kMaxObservationsPerFrame> sightings_{};
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxMeasDim, 1> nu_;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxMeasDim, kMaxMeasDim> S_;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxMeasDim, kMaxMeasDim> Sinv_;

@@ -48,6 +48,12 @@ struct EkfConfig {
   // Barrau and Bonnabel (2015); without it each correction claims a little of it (the EKF-SLAM
   // inconsistency of Huang et al.), and a heading that is lost still looks known.
   bool invariant_reset = true;
+  // An update whose prior pose is too uncertain for the measurement's linearization (for some
+  // sighting of an established landmark, the pose's share of the across-ray std. dev. sigma, as an
+  // angle, makes the projection's second-order term f sigma^2 / 2 exceed the pixel noise) is
+  // linearized at the planar pose that solves the frame's sightings of established landmarks with
+  // the prior (solve_planar_pose): the iterated EKF's update from that pose.
+  bool solve_pose_beyond_linear_range = true;
   // Merges (merge_landmarks) treat the kept entry as a considered state (Schmidt): the merge
   // corrects the robot and the rest of the map through their correlations with the two entries,
   // and neither moves the kept entry nor shrinks its covariance. Without it every merge pulls the
