@@ -23,45 +23,55 @@ Eigen::Vector3d planar_difference(const Vector6d& a, const Vector6d& b) {
   return {a(0) - b(0), a(1) - b(1), wrap_angle(a(kYaw) - b(kYaw))};
 }
 
-// The cost's Gauss-Newton normal equations at pose, each sighting weighted by S_j^-1 at
-// weight_pose (held while a step is tried: a cost whose weights moved with the pose would favour
-// poses that make its sightings noisier); false when no sighting is ahead of the camera at both or
-// a weight is not positive definite.
+// The cost at pose, each sighting weighted by S_j^-1 at weight_pose (held while a step is tried: a
+// cost whose weights moved with the pose would favour poses that make its sightings noisier), and
+// with A and b its Gauss-Newton normal equations (a tried step needs the cost alone); false when no
+// sighting is ahead of the camera at both or a weight is not positive definite.
 bool normal_equations(const Vector6d& pose, const Vector6d& weight_pose, const Vector6d& prior,
                       const Eigen::Matrix3d& info0, std::span<const PoseSighting> sightings,
-                      const SightingNoise& noise, Eigen::Matrix3d& A, Eigen::Vector3d& b,
+                      const SightingNoise& noise, Eigen::Matrix3d* A, Eigen::Vector3d* b,
                       double& cost, PoseFit& fit) {
   const Eigen::Vector3d d0 = planar_difference(pose, prior);
-  A = info0;
-  b = -info0 * d0;
+  if (A != nullptr && b != nullptr) {
+    *A = info0;
+    *b = -info0 * d0;
+  }
   fit.prior_cost = d0.dot(info0 * d0);
   fit.sightings_cost = 0.0;
+  const bool weights_here = pose == weight_pose;
   int used = 0;
   for (const PoseSighting& s : sightings) {
     const Eigen::Vector3d y = conditional_landmark(s, prior, pose);
     Eigen::Matrix3d S;
     if (!sighting_covariance(pose, y, s, noise, S) ||
-        !sighting_covariance(weight_pose, conditional_landmark(s, prior, weight_pose), s, noise,
-                             S)) {
+        (!weights_here &&
+         !sighting_covariance(weight_pose, conditional_landmark(s, prior, weight_pose), s, noise,
+                              S))) {
       continue;
     }
     const Eigen::LLT<Eigen::Matrix3d> llt(S);
     if (llt.info() != Eigen::Success) {
       return false;
     }
-    Eigen::Matrix3d Jq;
-    Eigen::Matrix3d Jy;
-    const Eigen::Vector3d r = sighting_residual(pose, y, s.ct, &Jq, &Jy);
-    const Eigen::Matrix3d J = Jq + Jy * s.G;
-    const Eigen::Matrix3d WJ = llt.solve(J);
-    A.noalias() += J.transpose() * WJ;
-    b.noalias() -= WJ.transpose() * r;
-    fit.sightings_cost += r.dot(llt.solve(r));
+    if (A != nullptr && b != nullptr) {
+      Eigen::Matrix3d Jq;
+      Eigen::Matrix3d Jy;
+      const Eigen::Vector3d r = sighting_residual(pose, y, s.ct, &Jq, &Jy);
+      const Eigen::Matrix3d J = Jq + Jy * s.G;
+      const Eigen::Matrix3d WJ = llt.solve(J);
+      A->noalias() += J.transpose() * WJ;
+      b->noalias() -= WJ.transpose() * r;
+      fit.sightings_cost += r.dot(llt.solve(r));
+    } else {
+      const Eigen::Vector3d r = sighting_residual(pose, y, s.ct, nullptr, nullptr);
+      fit.sightings_cost += r.dot(llt.solve(r));
+    }
     ++used;
   }
   fit.sightings = used;
   cost = fit.prior_cost + fit.sightings_cost;
-  return used > 0 && A.allFinite() && b.allFinite() && std::isfinite(cost);
+  const bool finite = A == nullptr || b == nullptr || (A->allFinite() && b->allFinite());
+  return used > 0 && finite && std::isfinite(cost);
 }
 }  // namespace
 
@@ -117,7 +127,7 @@ bool solve_planar_pose(const Vector6d& prior_pose, const Eigen::Matrix3d& P0,
   Eigen::Matrix3d A;
   Eigen::Vector3d b;
   double cost = 0.0;
-  if (!normal_equations(p, p, prior_pose, info0, sightings, noise, A, b, cost, fit)) {
+  if (!normal_equations(p, p, prior_pose, info0, sightings, noise, &A, &b, cost, fit)) {
     return false;
   }
   for (int it = 0; it < max_iterations; ++it) {
@@ -132,13 +142,11 @@ bool solve_planar_pose(const Vector6d& prior_pose, const Eigen::Matrix3d& P0,
     for (int h = 0; h < 10 && !lowered; ++h) {
       step = std::ldexp(1.0, -h) * full;
       const Vector6d q = planar_step(p, step);
-      Eigen::Matrix3d Aq;
-      Eigen::Vector3d bq;
       double cq = 0.0;
       PoseFit fq;
-      if (normal_equations(q, p, prior_pose, info0, sightings, noise, Aq, bq, cq, fq) &&
+      if (normal_equations(q, p, prior_pose, info0, sightings, noise, nullptr, nullptr, cq, fq) &&
           cq < cost &&
-          normal_equations(q, q, prior_pose, info0, sightings, noise, A, b, cost, fit)) {
+          normal_equations(q, q, prior_pose, info0, sightings, noise, &A, &b, cost, fit)) {
         lowered = true;
         p = q;
       }
