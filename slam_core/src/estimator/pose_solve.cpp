@@ -27,6 +27,22 @@ Eigen::Vector3d planar_difference(const Vector6d& a, const Vector6d& b) {
 // cost whose weights moved with the pose would favour poses that make its sightings noisier), and
 // with A and b its Gauss-Newton normal equations (a tried step needs the cost alone); false when no
 // sighting is ahead of the camera at both or a weight is not positive definite.
+// sighting_covariance with the pose's rotation C_wc given (computed once per pose).
+bool sighting_covariance_at(const Eigen::Matrix3d& C_wc, const Vector6d& pose,
+                            const Eigen::Vector3d& y, const PoseSighting& s,
+                            const SightingNoise& noise, Eigen::Matrix3d& S) {
+  const Eigen::Matrix3d C_cw = C_wc.transpose();
+  const Eigen::Vector3d h = C_cw * (y - pose.head<3>());
+  const double depth = h.dot(s.ct.normalized());
+  if (!(h.x() > noise.min_depth_m) || !(depth > noise.min_depth_m)) {
+    return false;
+  }
+  S = C_cw * s.Pyy * C_cw.transpose() +
+      measurement_covariance(s.ct, noise.eps_ct_m, depth * noise.eps_px / noise.focal_px);
+  S = 0.5 * (S + S.transpose()).eval();
+  return S.allFinite();
+}
+
 bool normal_equations(const Vector6d& pose, const Vector6d& weight_pose, const Vector6d& prior,
                       const Eigen::Matrix3d& info0, std::span<const PoseSighting> sightings,
                       const SightingNoise& noise, Eigen::Matrix3d* A, Eigen::Vector3d* b,
@@ -39,14 +55,17 @@ bool normal_equations(const Vector6d& pose, const Vector6d& weight_pose, const V
   fit.prior_cost = d0.dot(info0 * d0);
   fit.sightings_cost = 0.0;
   const bool weights_here = pose == weight_pose;
+  const Eigen::Matrix3d C_wc = rotation_zyx(pose(3), pose(4), pose(kYaw));
+  const Eigen::Matrix3d C_wc_weights =
+      weights_here ? C_wc : rotation_zyx(weight_pose(3), weight_pose(4), weight_pose(kYaw));
   int used = 0;
   for (const PoseSighting& s : sightings) {
     const Eigen::Vector3d y = conditional_landmark(s, prior, pose);
     Eigen::Matrix3d S;
-    if (!sighting_covariance(pose, y, s, noise, S) ||
+    if (!sighting_covariance_at(C_wc, pose, y, s, noise, S) ||
         (!weights_here &&
-         !sighting_covariance(weight_pose, conditional_landmark(s, prior, weight_pose), s, noise,
-                              S))) {
+         !sighting_covariance_at(C_wc_weights, weight_pose,
+                                 conditional_landmark(s, prior, weight_pose), s, noise, S))) {
       continue;
     }
     const Eigen::LLT<Eigen::Matrix3d> llt(S);
@@ -63,7 +82,9 @@ bool normal_equations(const Vector6d& pose, const Vector6d& weight_pose, const V
       b->noalias() -= WJ.transpose() * r;
       fit.sightings_cost += r.dot(llt.solve(r));
     } else {
-      const Eigen::Vector3d r = sighting_residual(pose, y, s.ct, nullptr, nullptr);
+      const Eigen::Vector3d c = s.ct.normalized();
+      const Eigen::Matrix3d across = c * c.transpose() - Eigen::Matrix3d::Identity();
+      const Eigen::Vector3d r = across * (C_wc.transpose() * (y - pose.head<3>()));
       fit.sightings_cost += r.dot(llt.solve(r));
     }
     ++used;
@@ -103,16 +124,7 @@ Eigen::Vector3d conditional_landmark(const PoseSighting& s, const Vector6d& prio
 
 bool sighting_covariance(const Vector6d& pose, const Eigen::Vector3d& y, const PoseSighting& s,
                          const SightingNoise& noise, Eigen::Matrix3d& S) {
-  const Eigen::Vector3d h = predict_camera_point(pose, y);
-  const double depth = h.dot(s.ct.normalized());
-  if (!(h.x() > noise.min_depth_m) || !(depth > noise.min_depth_m)) {
-    return false;
-  }
-  const Eigen::Matrix3d C_cw = rotation_zyx(pose(3), pose(4), pose(kYaw)).transpose();
-  S = C_cw * s.Pyy * C_cw.transpose() +
-      measurement_covariance(s.ct, noise.eps_ct_m, depth * noise.eps_px / noise.focal_px);
-  S = 0.5 * (S + S.transpose()).eval();
-  return S.allFinite();
+  return sighting_covariance_at(rotation_zyx(pose(3), pose(4), pose(kYaw)), pose, y, s, noise, S);
 }
 
 bool solve_planar_pose(const Vector6d& prior_pose, const Eigen::Matrix3d& P0,
