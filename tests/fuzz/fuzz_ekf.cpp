@@ -245,32 +245,29 @@ std::uint64_t rejections(const Ekf& e) {
   return sum;
 }
 
-// Smallest eigenvalue over the largest magnitude (0 for a zero matrix).
+// Smallest eigenvalue of A at least -kPsdTolerance times the larger of A's largest eigenvalue
+// magnitude and scale. Rounding in a covariance is relative to the largest variance it has held,
+// and stays when a landmark of that variance leaves the state: scale is that largest variance.
+// A + s I with s = kPsdTolerance max(max|A_ii|, scale) (at most kPsdTolerance times that larger
+// magnitude) has a Cholesky factor only when every eigenvalue of A is above -s, so that factor,
+// several times cheaper, settles most cases; the eigenvalues decide the rest.
 template <typename Matrix>
-double min_eigenvalue_ratio(const Matrix& A) {
-  const Eigen::SelfAdjointEigenSolver<Matrix> es(A, Eigen::EigenvaluesOnly);
-  const double scale = es.eigenvalues().cwiseAbs().maxCoeff();
-  return scale > 0.0 ? es.eigenvalues().minCoeff() / scale : 0.0;
-}
-
-// min_eigenvalue_ratio(A) >= -kPsdTolerance. A + s I with s = kPsdTolerance max|A_ii| (at most
-// kPsdTolerance times A's largest eigenvalue magnitude) has a Cholesky factor only when every
-// eigenvalue of A is above -s, so that factor, several times cheaper, settles most cases; the
-// eigenvalues decide the rest.
-template <typename Matrix>
-bool positive_semidefinite(const Matrix& A) {
-  double diagonal = 0.0;
+bool positive_semidefinite(const Matrix& A, double scale) {
+  double diagonal = scale;
   for (Eigen::Index i = 0; i < A.rows(); ++i) {
     diagonal = std::max(diagonal, std::abs(A(i, i)));
   }
-  if (diagonal > 0.0) {
-    Matrix shifted = A;
-    shifted.diagonal().array() += kPsdTolerance * diagonal;
-    if (Eigen::LLT<Matrix>(shifted).info() == Eigen::Success) {
-      return true;
-    }
+  if (diagonal <= 0.0) {
+    return true;
   }
-  return min_eigenvalue_ratio(A) >= -kPsdTolerance;
+  Matrix shifted = A;
+  shifted.diagonal().array() += kPsdTolerance * diagonal;
+  if (Eigen::LLT<Matrix>(shifted).info() == Eigen::Success) {
+    return true;
+  }
+  const Eigen::SelfAdjointEigenSolver<Matrix> es(A, Eigen::EigenvaluesOnly);
+  const double magnitude = std::max(es.eigenvalues().cwiseAbs().maxCoeff(), scale);
+  return es.eigenvalues().minCoeff() >= -kPsdTolerance * magnitude;
 }
 
 enum class Op : std::uint8_t {
@@ -325,6 +322,7 @@ class Session {
       name_ = kOpNames[static_cast<std::size_t>(op)];
       dispatch(op, code >= kFirstHostileOpcode);
       widest_ = std::max({widest_, filter_.active_dim(), one_shot_.active_dim()});
+      note_largest_variance();
       check_filter();
       compare_with_one_shot();
     }
@@ -459,6 +457,8 @@ class Session {
     expect(done || hostile, "reset: a finite pose and a PSD covariance refused");
     if (done) {
       pending_.reset();
+      largest_variance_ = 0.0;
+      note_largest_variance();
       expect(filter_.landmark_count() == 0 && !filter_.update_pending(),
              "reset: the map or an update left");
     } else {
@@ -736,6 +736,12 @@ class Session {
            e.covariance().middleCols(n, above).topRows(n + above).isZero(0.0);
   }
 
+  void note_largest_variance() {
+    const int n = bounded_active_dim(filter_);
+    largest_variance_ =
+        std::max(largest_variance_, filter_.covariance().diagonal().head(n).cwiseAbs().maxCoeff());
+  }
+
   void check_filter() const {
     const Ekf& e = filter_;
     int highest = -1;
@@ -773,14 +779,15 @@ class Session {
                "negative variance on the diagonal of P");
       }
     }
-    expect(positive_semidefinite(Matrix6d(P.topLeftCorner<6, 6>())),
+    expect(positive_semidefinite(Matrix6d(P.topLeftCorner<6, 6>()), 0.0),
            "pose block of P not positive semi-definite");
   }
 
   // After each change of P that is not an update in progress.
   void check_psd() const {
     const int n = bounded_active_dim(filter_);
-    expect(positive_semidefinite(ActiveMatrix(filter_.covariance().topLeftCorner(n, n))),
+    expect(positive_semidefinite(ActiveMatrix(filter_.covariance().topLeftCorner(n, n)),
+                                 largest_variance_),
            "P not positive semi-definite");
   }
 
@@ -802,6 +809,7 @@ class Session {
   Ekf& one_shot_;  // every update at once
   int max_slots_ = 0;
   int widest_ = 0;  // the largest active_dim of either filter in this input or before its reset
+  double largest_variance_ = 0.0;  // the largest variance of P since its last reset
   std::optional<PendingUpdate> pending_;
   int operation_ = 0;
   const char* name_ = "reset";
