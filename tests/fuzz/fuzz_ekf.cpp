@@ -730,8 +730,9 @@ class Session {
   // checked then, or never active): reset clears only the active block.
   bool zero_beyond_active_dim(const Ekf& e) const {
     const int n = e.active_dim();
-    const int above = std::max(std::min(hal::kLandmarkDim, Ekf::kMaxStateDim - n), widest_ - n);
-    return e.state().tail(Ekf::kMaxStateDim - n).isZero(0.0) &&
+    const auto pool_dim = static_cast<int>(e.state().size());
+    const int above = std::max(std::min(hal::kLandmarkDim, pool_dim - n), widest_ - n);
+    return e.state().tail(pool_dim - n).isZero(0.0) &&
            e.covariance().middleRows(n, above).leftCols(n + above).isZero(0.0) &&
            e.covariance().middleCols(n, above).topRows(n + above).isZero(0.0);
   }

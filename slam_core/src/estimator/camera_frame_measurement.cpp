@@ -45,8 +45,14 @@ Eigen::Vector3d predict_camera_point(const Vector6d& pose, const Eigen::Vector3d
 
 void measurement_jacobian(const Vector6d& pose, const Eigen::Vector3d& y,
                           Eigen::Matrix<double, 3, 6>& H_pose, Eigen::Matrix3d& H_landmark) {
-  const Eigen::Matrix3d C_wc = rotation_zyx(pose(3), pose(4), pose(5));
-  const RotationZyxDerivatives d = rotation_zyx_derivatives(pose(3), pose(4), pose(5));
+  measurement_jacobian(rotation_zyx(pose(3), pose(4), pose(5)),
+                       rotation_zyx_derivatives(pose(3), pose(4), pose(5)), pose, y, H_pose,
+                       H_landmark);
+}
+
+void measurement_jacobian(const Eigen::Matrix3d& C_wc, const RotationZyxDerivatives& d,
+                          const Vector6d& pose, const Eigen::Vector3d& y,
+                          Eigen::Matrix<double, 3, 6>& H_pose, Eigen::Matrix3d& H_landmark) {
   const Eigen::Vector3d delta = y - pose.head<3>();
   H_landmark = C_wc.transpose();
   H_pose.leftCols<3>() = -H_landmark;

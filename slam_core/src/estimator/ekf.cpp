@@ -71,14 +71,15 @@ Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
     : config_(config),
       camera_(calibration.camera),
       max_slots_(std::clamp(config.max_landmarks, 0, hal::kMaxLandmarks)) {
-  x_.setZero(kMaxStateDim);
-  P_.setZero(kMaxStateDim, kMaxStateDim);
+  const int pool_dim = hal::kPoseDim + hal::kLandmarkDim * max_slots_;
+  x_.setZero(pool_dim);
+  P_.setZero(pool_dim, pool_dim);
   nu_.setZero(kMaxMeasDim);
   S_.setZero(kMaxMeasDim, kMaxMeasDim);
   Sinv_.setZero(kMaxMeasDim, kMaxMeasDim);
-  W_.setZero(kMaxStateDim, 2 * kMaxMeasDim);
-  V_.setZero(2 * kMaxMeasDim, kMaxStateDim);
-  PHt_.setZero(kMaxStateDim, kMaxMeasDim);
+  W_.setZero(pool_dim, 2 * kMaxMeasDim);
+  V_.setZero(2 * kMaxMeasDim, pool_dim);
+  PHt_.setZero(pool_dim, kMaxMeasDim);
   cross_.setZero(6, kMaxStateDim);
   new_rows_.setZero(3, kMaxStateDim);
   dx_.setZero(kMaxStateDim);

@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 
 #include "cleanslam/slam_core/camera_frame_measurement.hpp"
+#include "cleanslam/slam_core/geometry.hpp"
 
 namespace cleanslam::slam_core {
 
@@ -21,6 +22,40 @@ Vector6d planar_step(const Vector6d& pose, const Eigen::Vector3d& d) {
 
 Eigen::Vector3d planar_difference(const Vector6d& a, const Vector6d& b) {
   return {a(0) - b(0), a(1) - b(1), wrap_angle(a(kYaw) - b(kYaw))};
+}
+
+// A pose's M_wc and its derivatives, computed once for all the sightings seen from it.
+struct PoseRotation {
+  PoseRotation(const Vector6d& pose, bool with_derivatives)
+      : C_wc(rotation_zyx(pose(3), pose(4), pose(kYaw))) {
+    if (with_derivatives) {
+      dC_wc = rotation_zyx_derivatives(pose(3), pose(4), pose(kYaw));
+    }
+  }
+  Eigen::Matrix3d C_wc;
+  RotationZyxDerivatives dC_wc;  // when asked for
+};
+
+// sighting_residual with the pose's rotation given.
+Eigen::Vector3d residual_at(const PoseRotation& R, const Vector6d& pose, const Eigen::Vector3d& y,
+                            const Eigen::Vector3d& ct, Eigen::Matrix3d* J_planar,
+                            Eigen::Matrix3d* J_landmark) {
+  const Eigen::Vector3d c = ct.normalized();
+  const Eigen::Matrix3d across = c * c.transpose() - Eigen::Matrix3d::Identity();
+  if (J_planar != nullptr || J_landmark != nullptr) {
+    Eigen::Matrix<double, 3, 6> Hp;
+    Eigen::Matrix3d Hl;
+    measurement_jacobian(R.C_wc, R.dC_wc, pose, y, Hp, Hl);  // eq. 22-24
+    if (J_planar != nullptr) {
+      J_planar->col(0) = across * Hp.col(0);
+      J_planar->col(1) = across * Hp.col(1);
+      J_planar->col(2) = across * Hp.col(kYaw);
+    }
+    if (J_landmark != nullptr) {
+      *J_landmark = across * Hl;
+    }
+  }
+  return across * (R.C_wc.transpose() * (y - pose.head<3>()));
 }
 
 // The cost at pose, each sighting weighted by S_j^-1 at weight_pose (held while a step is tried: a
@@ -55,7 +90,8 @@ bool normal_equations(const Vector6d& pose, const Vector6d& weight_pose, const V
   fit.prior_cost = d0.dot(info0 * d0);
   fit.sightings_cost = 0.0;
   const bool weights_here = pose == weight_pose;
-  const Eigen::Matrix3d C_wc = rotation_zyx(pose(3), pose(4), pose(kYaw));
+  const PoseRotation R(pose, A != nullptr && b != nullptr);
+  const Eigen::Matrix3d& C_wc = R.C_wc;
   const Eigen::Matrix3d C_wc_weights =
       weights_here ? C_wc : rotation_zyx(weight_pose(3), weight_pose(4), weight_pose(kYaw));
   int used = 0;
@@ -75,7 +111,7 @@ bool normal_equations(const Vector6d& pose, const Vector6d& weight_pose, const V
     if (A != nullptr && b != nullptr) {
       Eigen::Matrix3d Jq;
       Eigen::Matrix3d Jy;
-      const Eigen::Vector3d r = sighting_residual(pose, y, s.ct, &Jq, &Jy);
+      const Eigen::Vector3d r = residual_at(R, pose, y, s.ct, &Jq, &Jy);
       const Eigen::Matrix3d J = Jq + Jy * s.G;
       const Eigen::Matrix3d WJ = llt.solve(J);
       A->noalias() += J.transpose() * WJ;
@@ -99,22 +135,8 @@ bool normal_equations(const Vector6d& pose, const Vector6d& weight_pose, const V
 Eigen::Vector3d sighting_residual(const Vector6d& pose, const Eigen::Vector3d& y,
                                   const Eigen::Vector3d& ct, Eigen::Matrix3d* J_planar,
                                   Eigen::Matrix3d* J_landmark) {
-  const Eigen::Vector3d c = ct.normalized();
-  const Eigen::Matrix3d across = c * c.transpose() - Eigen::Matrix3d::Identity();
-  if (J_planar != nullptr || J_landmark != nullptr) {
-    Eigen::Matrix<double, 3, 6> Hp;
-    Eigen::Matrix3d Hl;
-    measurement_jacobian(pose, y, Hp, Hl);  // eq. 22-24
-    if (J_planar != nullptr) {
-      J_planar->col(0) = across * Hp.col(0);
-      J_planar->col(1) = across * Hp.col(1);
-      J_planar->col(2) = across * Hp.col(kYaw);
-    }
-    if (J_landmark != nullptr) {
-      *J_landmark = across * Hl;
-    }
-  }
-  return across * predict_camera_point(pose, y);
+  const bool jacobians = J_planar != nullptr || J_landmark != nullptr;
+  return residual_at(PoseRotation(pose, jacobians), pose, y, ct, J_planar, J_landmark);
 }
 
 Eigen::Vector3d conditional_landmark(const PoseSighting& s, const Vector6d& prior_pose,

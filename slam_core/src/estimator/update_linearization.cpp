@@ -6,6 +6,7 @@
 #include "cleanslam/slam_core/camera_frame_measurement.hpp"
 #include "cleanslam/slam_core/ekf.hpp"
 #include "cleanslam/slam_core/frontend/chi_square.hpp"
+#include "cleanslam/slam_core/geometry.hpp"
 
 #include <Eigen/Cholesky>
 
@@ -45,6 +46,10 @@ bool Ekf::linearization_pose(const Observation* obs, int count, Vector6d& pose) 
   if (prior_llt.info() != Eigen::Success) {
     return false;
   }
+  // The prior's rotation, shared by all the sightings.
+  const Eigen::Matrix3d C_wc = rotation_zyx(prior(3), prior(4), prior(5));
+  const RotationZyxDerivatives dC_wc = rotation_zyx_derivatives(prior(3), prior(4), prior(5));
+  std::array<int, hal::kMaxObservationsPerFrame> rows{};
   int k = 0;
   bool beyond = false;
   for (int i = 0; i < count && i < hal::kMaxObservationsPerFrame; ++i) {
@@ -58,14 +63,7 @@ bool Ekf::linearization_pose(const Observation* obs, int count, Vector6d& pose) 
     s.ct = CameraModel::ray(n);
     const int lm = row_of(o.slot);
     s.y = x_.segment<3>(lm);
-    Eigen::Matrix3d Pyq;
-    for (std::size_t b = 0; b < kPlanar.size(); ++b) {
-      Pyq.col(static_cast<Eigen::Index>(b)) = P_.block<3, 1>(lm, kPlanar[b]);
-    }
-    s.G = prior_llt.solve(Pyq.transpose()).transpose();
-    s.Pyy = P_.block<3, 3>(lm, lm) - s.G * Pyq.transpose();
-    s.Pyy = 0.5 * (s.Pyy + s.Pyy.transpose()).eval();
-    const Eigen::Vector3d h = predict_camera_point(prior, s.y);
+    const Eigen::Vector3d h = C_wc.transpose() * (s.y - prior.head<3>());  // eq. 21
     const Eigen::Vector3d c = s.ct.normalized();
     const double depth = h.dot(c);
     if (!(h.x() > config_.min_depth_m) || !(depth > config_.min_depth_m)) {
@@ -73,15 +71,28 @@ bool Ekf::linearization_pose(const Observation* obs, int count, Vector6d& pose) 
     }
     Eigen::Matrix<double, 3, 6> Hp;
     Eigen::Matrix3d Hl;
-    measurement_jacobian(prior, s.y, Hp, Hl);
+    measurement_jacobian(C_wc, dC_wc, prior, s.y, Hp, Hl);
     const Eigen::Matrix<double, 3, 6> across =
         (Eigen::Matrix3d::Identity() - c * c.transpose()) * Hp;
     const double angle_var = (across * Ppp * across.transpose()).trace() / (depth * depth);
     beyond = beyond || angle_var > max_angle_var;
+    rows[static_cast<std::size_t>(k)] = lm;
     ++k;
   }
   if (!beyond) {
     return false;
+  }
+  // Each landmark conditioned on the pose's (x, y, yaw).
+  for (int j = 0; j < k; ++j) {
+    PoseSighting& s = sightings_[static_cast<std::size_t>(j)];
+    const int lm = rows[static_cast<std::size_t>(j)];
+    Eigen::Matrix3d Pyq;
+    for (std::size_t b = 0; b < kPlanar.size(); ++b) {
+      Pyq.col(static_cast<Eigen::Index>(b)) = P_.block<3, 1>(lm, kPlanar[b]);
+    }
+    s.G = prior_llt.solve(Pyq.transpose()).transpose();
+    s.Pyy = P_.block<3, 3>(lm, lm) - s.G * Pyq.transpose();
+    s.Pyy = 0.5 * (s.Pyy + s.Pyy.transpose()).eval();
   }
   Vector6d solved;
   PoseFit fit;
@@ -103,6 +114,7 @@ bool Ekf::linearization_pose(const Observation* obs, int count, Vector6d& pose) 
   Vector6d offset = solved - prior;
   offset(3) = wrap_angle(offset(3));
   offset(5) = wrap_angle(offset(5));
+  const Eigen::Matrix3d C_wc_solved = rotation_zyx(solved(3), solved(4), solved(5));
   for (int j = 0; j < k; ++j) {
     const PoseSighting& s = sightings_[static_cast<std::size_t>(j)];
     Eigen::Vector2d uv0;
@@ -110,12 +122,13 @@ bool Ekf::linearization_pose(const Observation* obs, int count, Vector6d& pose) 
     Eigen::Matrix<double, 2, 3> J;
     Eigen::Matrix<double, 3, 6> Hp;
     Eigen::Matrix3d Hl;
-    if (!camera_.project(predict_camera_point(prior, s.y), uv0, &J) ||
-        !camera_.project(predict_camera_point(solved, s.y), uv1, nullptr)) {
+    const Eigen::Vector3d h0 = C_wc.transpose() * (s.y - prior.head<3>());
+    const Eigen::Vector3d h1 = C_wc_solved.transpose() * (s.y - solved.head<3>());
+    if (!camera_.project(h0, uv0, &J) || !camera_.project(h1, uv1, nullptr)) {
       pose = solved;
       return true;
     }
-    measurement_jacobian(prior, s.y, Hp, Hl);
+    measurement_jacobian(C_wc, dC_wc, prior, s.y, Hp, Hl);
     if ((uv1 - uv0 - J * Hp * offset).norm() > noise.eps_px) {
       pose = solved;
       return true;

@@ -28,6 +28,10 @@ Eigen::Vector3d predict_camera_point(const Vector6d& camera_pose, const Eigen::V
 // Eq. 22-24: H_j = [-M_cw | dM_cw,j | M_cw], split into the pose (3x6) and landmark (3x3) parts.
 void measurement_jacobian(const Vector6d& camera_pose, const Eigen::Vector3d& y,
                           Eigen::Matrix<double, 3, 6>& H_pose, Eigen::Matrix3d& H_landmark);
+// The same with the pose's M_wc and its derivatives given (several landmarks seen from one pose).
+void measurement_jacobian(const Eigen::Matrix3d& C_wc, const RotationZyxDerivatives& dC_wc,
+                          const Vector6d& camera_pose, const Eigen::Vector3d& y,
+                          Eigen::Matrix<double, 3, 6>& H_pose, Eigen::Matrix3d& H_landmark);
 
 // Eq. 39: y = x_vp + M_wc v_c; with T_wc = [I | dM_wc] of eq. 41-42 (d y / d pose) when given.
 Eigen::Vector3d landmark_from_camera_point(const Vector6d& camera_pose, const Eigen::Vector3d& v_c,

@@ -54,7 +54,8 @@ class Ekf {
  public:
   static constexpr int kMaxStateDim = hal::kMaxStateDim;
   static constexpr int kMaxMeasDim = 3 * hal::kMaxObservationsPerFrame;
-  // Allocated at their maximum size by the constructor and never resized; calls work on blocks.
+  // Allocated by the constructor for the configured pool (6 + 3 max_landmarks rows, at most
+  // kMaxStateDim) and never resized; calls work on blocks.
   using StateVector = Eigen::VectorXd;
   using StateMatrix = Eigen::MatrixXd;
 
