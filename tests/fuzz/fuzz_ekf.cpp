@@ -180,9 +180,9 @@ Setup read_setup(ByteReader& in) {
   return s;
 }
 
-// Construction allocates and clears about 2 MB a filter, several times the cost of a short input:
-// the filters of the 256 most recently used setups (about 1 GB, within libFuzzer's default RSS
-// limit of 2 GB) are kept, and reset for each input. The key holds only the bits read_setup reads,
+// Construction allocates and clears the filter's workspaces (about 100 KB for the pools here),
+// more than a short input costs: the filters of the 256 most recently used setups are kept, and
+// reset for each input. The key holds only the bits read_setup reads,
 // so that inputs that differ in the unused ones share their filters.
 struct Filters {
   std::array<std::uint8_t, 3> setup_bytes{};
