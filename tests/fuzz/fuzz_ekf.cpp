@@ -650,7 +650,9 @@ class Session {
 
   // The rounding error of J P J^T in a landmark's pixel covariance: its terms are the variances it
   // projects, in pixels (the landmark's along the ray reach eps_ct^2), while the sum may be near
-  // R_pix. J grows as focal / depth and, through the distortion, up to |n|^4 off the axis.
+  // R_pix. J grows as focal / depth and, through the distortion, up to |n|^4 off the axis. P's own
+  // rounding, which positive_semidefinite bounds by the largest variance P has held, adds its
+  // projection.
   double pixel_rounding(int slot) const {
     PixelPrediction p;
     if (!filter_.predict_pixel(slot, p)) {
@@ -663,8 +665,9 @@ class Session {
     const double lever = (filter_.landmark(slot) - filter_.camera_pose().head<3>()).norm();
     const double variance = filter_.landmark_covariance(slot).cwiseAbs().maxCoeff() +
                             filter_.pose_covariance().cwiseAbs().maxCoeff() * (1.0 + lever * lever);
-    return 1e3 * std::numeric_limits<double>::epsilon() * f * f * std::pow(1.0 + n2, 4.0) *
-           variance;
+    return f * f * std::pow(1.0 + n2, 4.0) *
+           (1e3 * std::numeric_limits<double>::epsilon() * variance +
+            kPsdTolerance * largest_variance_ * (2.0 + lever * lever));
   }
 
   void joint_pixel_innovation(bool hostile) {
