@@ -302,6 +302,11 @@ bool DeadReckoner::add_encoder(const hal::EncoderSample& s) {
         seg_weight = gyro_weight;
       }
     }
+    if (!seg_gyro && wheel_yaw_learnt()) {
+      const WheelYawFusion::Fused f = wheel_yaw_.wheels_alone(seg_yaw, seg_d);
+      seg_yaw = f.yaw;
+      yaw_var += f.variance;
+    }
     step(seg_d, seg_yaw, yaw_var, seg_dt, seg_gyro, std::abs(dl) + std::abs(dr), seg_weight);
     seg_t_ = s.t_ns;
     pending_distance_ = 0.0;
@@ -341,6 +346,10 @@ OdometryIncrement DeadReckoner::take_increment(hal::TimeNs t_ns) {
         dyaw = thb - tha;
         const double nd = calibration_.gyro.noise_density;
         yaw_var = nd * nd * std::abs(dt);
+      } else if (wheel_yaw_learnt()) {
+        const WheelYawFusion::Fused f = wheel_yaw_.wheels_alone(dyaw, d);
+        dyaw = f.yaw;
+        yaw_var += f.variance;
       }
       step(d, dyaw, yaw_var, dt, gyro, 2.0 * std::abs(d), 1.0);
       pending_distance_ = target_distance;

@@ -24,6 +24,7 @@ double WheelYawFusion::correlation_intervals(double dt) const {
 }
 
 WheelYawFusion::Fused WheelYawFusion::fuse(const Reading& r) {
+  silent_distance_ = 0.0;
   Fused gyro_only;
   gyro_only.yaw = r.gyro_yaw;
   gyro_only.variance = r.gyro_var;
@@ -85,6 +86,29 @@ WheelYawFusion::Fused WheelYawFusion::fuse(const Reading& r) {
   } else if (window_count_ >= std::max(config_.window_intervals, 1)) {
     close_window();
   }
+  return out;
+}
+
+WheelYawFusion::Fused WheelYawFusion::wheels_alone(double wheel_yaw, double distance) {
+  Fused out;
+  out.gyro_weight = 0.0;
+  out.yaw = wheel_yaw;
+  if (!std::isfinite(wheel_yaw) || !std::isfinite(distance)) {
+    return out;
+  }
+  // c and its variance given s = 0.
+  double c = p_(2);
+  double c_var = P_(2, 2);
+  if (P_(1, 1) > 0.0) {
+    c -= P_(1, 2) / P_(1, 1) * p_(1);
+    c_var -= P_(1, 2) * P_(1, 2) / P_(1, 1);
+  }
+  const double before = silent_distance_;
+  silent_distance_ += distance;
+  out.yaw = wheel_yaw - c * distance;
+  // Driving back shrinks the share: the variance stays at least where it was.
+  out.variance = std::max(
+      0.0, std::max(c_var, 0.0) * (silent_distance_ * silent_distance_ - before * before));
   return out;
 }
 

@@ -64,6 +64,14 @@ class WheelYawFusion {
     double gyro_weight = 1.0;  // d yaw / d gyro_yaw
   };
   Fused fuse(const Reading& r);
+  // The gyro silent: the wheels' heading change wheel_yaw over distance corrected by the drift per
+  // metre learnt so far, w - c d, with c taken at s = 0: the heading scale is learnt from turns
+  // alone and may still be near its prior when the gyro falls silent, so its error is left to the
+  // wheels' heading noise (the caller's, with the wheels' own). The drift's error is the same
+  // through the silence: its share of the heading's variance is var(c | s = 0) D^2, D the distance
+  // since the gyro's last reading; the variance returned is that share's growth. fuse() ends the
+  // silence.
+  Fused wheels_alone(double wheel_yaw, double distance);
 
   // p = (b, s, c) and its covariance.
   [[nodiscard]] const Eigen::Vector3d& calibration() const { return p_; }
@@ -97,6 +105,7 @@ class WheelYawFusion {
   double sum_gyro_minus_fused_var_ = 0.0;
   int window_count_ = 0;
   double last_test_ratio_ = -1.0;
+  double silent_distance_ = 0.0;  // m, signed, since the gyro went silent
   WheelYawCounters counters_;
 };
 
