@@ -783,7 +783,7 @@ class Session {
                "negative variance on the diagonal of P");
       }
     }
-    expect(positive_semidefinite(Matrix6d(P.topLeftCorner<6, 6>()), 0.0),
+    expect(positive_semidefinite(Matrix6d(P.topLeftCorner<6, 6>()), largest_variance_),
            "pose block of P not positive semi-definite");
   }
 
