@@ -107,8 +107,8 @@ WheelYawFusion::Fused WheelYawFusion::wheels_alone(double wheel_yaw, double dist
   silent_distance_ += distance;
   out.yaw = wheel_yaw - c * distance;
   // Driving back shrinks the share: the variance stays at least where it was.
-  out.variance = std::max(
-      0.0, std::max(c_var, 0.0) * (silent_distance_ * silent_distance_ - before * before));
+  out.variance =
+      std::max(0.0, std::max(c_var, 0.0) * (silent_distance_ * silent_distance_ - before * before));
   return out;
 }
 

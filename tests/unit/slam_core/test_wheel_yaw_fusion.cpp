@@ -176,8 +176,8 @@ TEST(WheelYawFusion, WithTheGyroSilentTheLearntDriftCorrectsTheWheels) {
   }
   const double raw_rms = std::sqrt(raw2 / n);
   const double corrected_rms = std::sqrt(corrected2 / n);
-  std::printf("30 s silent, %d runs: wheels %.3f rad, corrected %.3f rad; NEES %.2f\n", n,
-              raw_rms, corrected_rms, nees / n);
+  std::printf("30 s silent, %d runs: wheels %.3f rad, corrected %.3f rad; NEES %.2f\n", n, raw_rms,
+              corrected_rms, nees / n);
   EXPECT_LT(corrected_rms, 0.5 * raw_rms);
   EXPECT_LT(nees / n, 2.0);
   EXPECT_GT(nees / n, 0.2);
