@@ -18,9 +18,10 @@ bool finite2(double a, double b) {
 }
 
 // A symmetric Q positive semi-definite up to `tolerance`: no eigenvalue below -tolerance times
-// the trace, which holds exactly when Q has a Cholesky factor once tolerance tr(Q) is added to its
-// diagonal. (The pivoted LDL^T's D is no such test for a singular matrix: the dead reckoner's
-// rank-deficient Q, whose eigenvalues are above -5e-16 of its largest, gave D entries of -0.6 %.)
+// its largest variance (at most its largest eigenvalue), which holds exactly when Q has a Cholesky
+// factor once that much is added to its diagonal. (The pivoted LDL^T's D is no such test for a
+// singular matrix: the dead reckoner's rank-deficient Q, whose eigenvalues are above -5e-16 of its
+// largest, gave D entries of -0.6 %.)
 bool positive_semidefinite(const Matrix6d& Q, double tolerance = 1e-9) {
   const double trace = Q.trace();
   if (!std::isfinite(trace) || trace < 0.0) {
@@ -30,7 +31,7 @@ bool positive_semidefinite(const Matrix6d& Q, double tolerance = 1e-9) {
     return Q.isZero(0.0);
   }
   Matrix6d shifted = Q;
-  shifted.diagonal().array() += tolerance * trace;
+  shifted.diagonal().array() += tolerance * Q.diagonal().cwiseAbs().maxCoeff();
   // A factorization that overflowed reports success with a NaN factor.
   const Eigen::LLT<Matrix6d> llt(shifted);
   return llt.info() == Eigen::Success && llt.matrixLLT().allFinite();
