@@ -182,8 +182,8 @@ Setup read_setup(ByteReader& in) {
 
 // Construction allocates and clears the filter's workspaces (about 100 KB for the pools here),
 // more than a short input costs: the filters of the 256 most recently used setups are kept, and
-// reset for each input. The key holds only the bits read_setup reads,
-// so that inputs that differ in the unused ones share their filters.
+// reset for each input. The key holds only the bits read_setup reads, so that inputs that differ
+// in the unused ones share their filters.
 struct Filters {
   std::array<std::uint8_t, 3> setup_bytes{};
   std::uint64_t last_use = 0;

@@ -58,10 +58,6 @@ Eigen::Vector3d residual_at(const PoseRotation& R, const Vector6d& pose, const E
   return across * (R.C_wc.transpose() * (y - pose.head<3>()));
 }
 
-// The cost at pose, each sighting weighted by S_j^-1 at weight_pose (held while a step is tried: a
-// cost whose weights moved with the pose would favour poses that make its sightings noisier), and
-// with A and b its Gauss-Newton normal equations (a tried step needs the cost alone); false when no
-// sighting is ahead of the camera at both or a weight is not positive definite.
 // sighting_covariance with the pose's rotation C_wc given (computed once per pose).
 bool sighting_covariance_at(const Eigen::Matrix3d& C_wc, const Vector6d& pose,
                             const Eigen::Vector3d& y, const PoseSighting& s,
@@ -78,6 +74,10 @@ bool sighting_covariance_at(const Eigen::Matrix3d& C_wc, const Vector6d& pose,
   return S.allFinite();
 }
 
+// The cost at pose, each sighting weighted by S_j^-1 at weight_pose (held while a step is tried: a
+// cost whose weights moved with the pose would favour poses that make its sightings noisier), and
+// with A and b its Gauss-Newton normal equations (a tried step needs the cost alone); false when no
+// sighting is ahead of the camera at both or a weight is not positive definite.
 bool normal_equations(const Vector6d& pose, const Vector6d& weight_pose, const Vector6d& prior,
                       const Eigen::Matrix3d& info0, std::span<const PoseSighting> sightings,
                       const SightingNoise& noise, Eigen::Matrix3d* A, Eigen::Vector3d* b,
@@ -108,21 +108,18 @@ bool normal_equations(const Vector6d& pose, const Vector6d& weight_pose, const V
     if (llt.info() != Eigen::Success) {
       return false;
     }
-    if (A != nullptr && b != nullptr) {
-      Eigen::Matrix3d Jq;
-      Eigen::Matrix3d Jy;
-      const Eigen::Vector3d r = residual_at(R, pose, y, s.ct, &Jq, &Jy);
+    Eigen::Matrix3d Jq;
+    Eigen::Matrix3d Jy;
+    const bool jacobians = A != nullptr && b != nullptr;
+    const Eigen::Vector3d r =
+        residual_at(R, pose, y, s.ct, jacobians ? &Jq : nullptr, jacobians ? &Jy : nullptr);
+    if (jacobians) {
       const Eigen::Matrix3d J = Jq + Jy * s.G;
       const Eigen::Matrix3d WJ = llt.solve(J);
       A->noalias() += J.transpose() * WJ;
       b->noalias() -= WJ.transpose() * r;
-      fit.sightings_cost += r.dot(llt.solve(r));
-    } else {
-      const Eigen::Vector3d c = s.ct.normalized();
-      const Eigen::Matrix3d across = c * c.transpose() - Eigen::Matrix3d::Identity();
-      const Eigen::Vector3d r = across * (C_wc.transpose() * (y - pose.head<3>()));
-      fit.sightings_cost += r.dot(llt.solve(r));
     }
+    fit.sightings_cost += r.dot(llt.solve(r));
     ++used;
   }
   fit.sightings = used;

@@ -117,13 +117,13 @@ class DeadReckoner {
 
   [[nodiscard]] const DeadReckonerCounters& counters() const { return counters_; }
   [[nodiscard]] const WheelYawFusion& wheel_yaw_fusion() const { return wheel_yaw_; }
+
+ private:
   // The wheels' heading calibration has been learnt from a window at least: with the gyro silent
   // it corrects the wheels' heading (before, the wheels' heading noise alone models them).
   [[nodiscard]] bool wheel_yaw_learnt() const {
     return config_.wheel_yaw.enabled && wheel_yaw_.counters().windows_used > 0;
   }
-
- private:
   struct Knot {
     hal::TimeNs t = 0;
     double theta = 0.0;  // integral of (rate - bias) since the first sample
