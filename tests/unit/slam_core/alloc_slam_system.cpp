@@ -8,12 +8,13 @@
 #include <Eigen/Core>
 
 #include "allocation_counter.hpp"
+#include "cleanslam/slam_core/map_snapshot.hpp"
 #include "cleanslam/slam_core/slam_system.hpp"
 #include "frontend_synthetic.hpp"
 
 // SlamSystem, the estimation facade: after construction neither kind of frame allocates, nor do
 // odometry, prediction, the update in bounded parts, remapping and merging, a set-down
-// (relocalized or a new map) and the reports.
+// (relocalized or a new map), the reports and the snapshot of the map a run saves.
 namespace cs = cleanslam::slam_core;
 namespace hal = cleanslam::hal;
 namespace lf = cleanslam::hal::log;
@@ -73,6 +74,7 @@ TEST(SlamSystemAllocation, FramesWithTrackIdsAllocateNothing) {
   for (const auto policy : {cs::MapConfig::SetDown::kRelocalize, cs::MapConfig::SetDown::kNewMap}) {
     auto system = std::make_unique<cs::SlamSystem>(calibration, config(policy));
     std::vector<hal::FeatureObservation> features(40);
+    auto snapshot = std::make_unique<hal::map_file::MapSnapshot>();
     Drive drive{system.get()};
     std::size_t allocations = 0;
     {
@@ -101,10 +103,12 @@ TEST(SlamSystemAllocation, FramesWithTrackIdsAllocateNothing) {
       static_cast<void>(system->pose(drive.t));
       static_cast<void>(system->dead_reckoning_pose(drive.t));
       static_cast<void>(system->pose_lost());
+      cs::snapshot_map(*system, drive.t, *snapshot);
       allocations = scope.count();
       Eigen::internal::set_is_malloc_allowed(true);
     }
     EXPECT_EQ(allocations, 0U);
+    EXPECT_EQ(snapshot->count, system->ekf().landmark_count());
     EXPECT_GT(drive.records, 100);
     EXPECT_GT(drive.steps, 0);  // the update ran in parts
     EXPECT_GT(system->ekf().landmark_count(), 10);
@@ -126,6 +130,7 @@ TEST(SlamSystemAllocation, ImageFramesAllocateNothing) {
       w.shift_x = 1.5 * k;
       images.push_back(cleanslam::test::render(w));
     }
+    auto snapshot = std::make_unique<hal::map_file::MapSnapshot>();
     Drive drive{system.get()};
     std::size_t allocations = 0;
     {
@@ -143,10 +148,12 @@ TEST(SlamSystemAllocation, ImageFramesAllocateNothing) {
         drive.frame(f);
       }
       static_cast<void>(system->pose(drive.t));
+      cs::snapshot_map(*system, drive.t, *snapshot);
       allocations = scope.count();
       Eigen::internal::set_is_malloc_allowed(true);
     }
     EXPECT_EQ(allocations, 0U);
+    EXPECT_EQ(snapshot->count, system->ekf().landmark_count());
     EXPECT_EQ(system->image_frames(), 12U);
     EXPECT_GT(drive.records, 20);
     EXPECT_GT(system->ekf().counters().landmarks_initialized, 5U);

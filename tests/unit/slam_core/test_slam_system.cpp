@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -5,11 +7,12 @@
 
 #include <gtest/gtest.h>
 
+#include "cleanslam/slam_core/map_snapshot.hpp"
 #include "cleanslam/slam_core/slam_system.hpp"
 #include "frontend_synthetic.hpp"
 
-// SlamSystem, the estimation facade: the cap on landmarks in view, the set-down policies, and the
-// image path's dormant map after a relocalizing set-down.
+// SlamSystem, the estimation facade: the cap on landmarks in view, the set-down policies, the
+// image path's dormant map after a relocalizing set-down, and the snapshot of the map a run saves.
 namespace cs = cleanslam::slam_core;
 namespace hal = cleanslam::hal;
 namespace lf = cleanslam::hal::log;
@@ -155,4 +158,67 @@ TEST_F(SlamSystemTest, ImageFramesLeaveTheMapDormantUntilItIsFoundAgain) {
   EXPECT_EQ(system_->map().dormant_count(), 0);
   EXPECT_GT(system_->pipeline().book().active_count(), 5);
   EXPECT_FALSE(system_->pose_lost());
+}
+
+TEST_F(SlamSystemTest, TheMapSnapshotHoldsEveryLandmarkWithItsTrackAndMarginal) {
+  make(cs::MapConfig::SetDown::kNewMap);
+  features(500 * kMs, grid(100));
+  features(1000 * kMs, grid(100));
+  const cs::Ekf& ekf = system_->ekf();
+  ASSERT_GT(ekf.landmark_count(), 0);
+  auto snapshot = std::make_unique<hal::map_file::MapSnapshot>();
+  cs::snapshot_map(*system_, 1000 * kMs, *snapshot);
+  EXPECT_EQ(snapshot->count, ekf.landmark_count());
+  EXPECT_EQ(snapshot->saved_at_ns, 1000 * kMs);
+  int k = 0;
+  for (int s = 0; s < hal::kMaxLandmarks; ++s) {
+    if (!ekf.slot_used(s)) {
+      continue;
+    }
+    const hal::map_file::MapLandmark& l = snapshot->landmarks[static_cast<std::size_t>(k++)];
+    EXPECT_EQ(l.id, system_->map().owner(s));
+    EXPECT_GE(l.id, 100);
+    EXPECT_EQ(l.flags, 0U);  // feature frames carry no appearance
+    const Eigen::Vector3d p = ekf.landmark(s);
+    const Eigen::Matrix3d c = ekf.landmark_covariance(s);
+    EXPECT_EQ(l.position_m, (std::array<double, 3>{p.x(), p.y(), p.z()}));
+    EXPECT_EQ(l.covariance,
+              (std::array<double, 6>{c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2), c(2, 2)}));
+    EXPECT_TRUE(hal::map_file::covariance_ok(l.covariance));
+  }
+}
+
+TEST_F(SlamSystemTest, AnImageMapSnapshotKeepsEachLandmarksFirstSightingPatch) {
+  make(cs::MapConfig::SetDown::kNewMap);
+  const cleanslam::test::GrayImage image = cleanslam::test::render(cleanslam::test::Warp{});
+  for (int k = 1; k <= 3; ++k) {
+    drive_to(500 * kMs * k);
+    hal::CameraFrame f;
+    f.t_ns = t_;
+    f.image = image.view();
+    run(f);
+  }
+  const cs::Ekf& ekf = system_->ekf();
+  ASSERT_GT(ekf.landmark_count(), 5);
+  auto snapshot = std::make_unique<hal::map_file::MapSnapshot>();
+  cs::snapshot_map(*system_, t_, *snapshot);
+  ASSERT_EQ(snapshot->count, ekf.landmark_count());
+  int k = 0;
+  int with_patch = 0;
+  for (int s = 0; s < hal::kMaxLandmarks; ++s) {
+    if (!ekf.slot_used(s)) {
+      continue;
+    }
+    const hal::map_file::MapLandmark& l = snapshot->landmarks[static_cast<std::size_t>(k++)];
+    EXPECT_EQ(l.id, s);
+    const cs::frontend::LandmarkPatch* patch = system_->pipeline().patches().get(s);
+    ASSERT_NE(patch, nullptr);
+    ASSERT_TRUE(patch->valid);
+    EXPECT_NE(l.flags & hal::map_file::kHasPatch, 0U);
+    EXPECT_EQ(l.first_depth_m, patch->first_depth_m);
+    EXPECT_TRUE(std::equal(patch->pixels.begin(), patch->pixels.end(), l.patch.begin()));
+    EXPECT_EQ((l.flags & hal::map_file::kHasAnchor) != 0, patch->has_anchor);
+    with_patch += (l.flags & hal::map_file::kHasPatch) != 0 ? 1 : 0;
+  }
+  EXPECT_EQ(with_patch, snapshot->count);
 }

@@ -112,10 +112,10 @@ inline std::size_t encode(const MapSnapshot& m, std::uint8_t* out, std::size_t c
 
 enum class Refusal {
   kNone,
-  kTooShort,  // shorter than a header and its CRC
-  kNotAMap,   // another file's magic
-  kVersion,   // written by another version of the format
-  kLayout,    // header or record size other than this version's
+  kTooShort,      // shorter than a header and its CRC
+  kNotAMap,       // another file's magic
+  kOtherVersion,  // written by another version of the format
+  kLayout,        // header or record size other than this version's
   kTooManyLandmarks,
   kSize,           // the size does not match the count: cut short, or bytes appended
   kCrc,            // damaged
@@ -131,7 +131,7 @@ enum class Refusal {
       return "shorter than a map file's header";
     case Refusal::kNotAMap:
       return "not a cleanslam map file (magic)";
-    case Refusal::kVersion:
+    case Refusal::kOtherVersion:
       return "written by another version of the map format";
     case Refusal::kLayout:
       return "header or record size not this version's";
@@ -196,7 +196,7 @@ inline Decoded decode(const std::uint8_t* data, std::size_t size, MapSnapshot& m
   }
   d.version = r.u32();
   if (d.version != kVersion) {
-    return refuse(Refusal::kVersion, 8);
+    return refuse(Refusal::kOtherVersion, 8);
   }
   const std::uint32_t header_size = r.u32();
   const std::uint32_t record_size = r.u32();
@@ -222,7 +222,7 @@ inline Decoded decode(const std::uint8_t* data, std::size_t size, MapSnapshot& m
   dock.yaw_rad = r.f64();
   (void)r.u32();
   if (!std::isfinite(dock.x_m) || !std::isfinite(dock.y_m) || !std::isfinite(dock.yaw_rad)) {
-    return refuse(Refusal::kNotFinite, 32);
+    return refuse(Refusal::kNotFinite, 36);
   }
   for (std::uint32_t i = 0; i < d.count; ++i) {
     const std::size_t at = kHeaderSize + kRecordSize * i;
@@ -249,11 +249,15 @@ inline Decoded decode(const std::uint8_t* data, std::size_t size, MapSnapshot& m
     }
     if ((l.flags & kHasPatch) != 0) {
       finite = finite && std::isfinite(l.first_depth_m);
+    } else {
+      l.first_depth_m = 0.0;
     }
     if ((l.flags & kHasAnchor) != 0) {
       for (const double v : l.anchor_m) {
         finite = finite && std::isfinite(v);
       }
+    } else {
+      l.anchor_m = {};
     }
     if (!finite) {
       return refuse(Refusal::kNotFinite, at);
