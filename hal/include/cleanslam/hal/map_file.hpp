@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -24,7 +25,7 @@
 namespace cleanslam::hal::map_file {
 
 inline constexpr std::array<char, 8> kMagic{'C', 'S', 'L', 'A', 'M', 'M', 'A', 'P'};
-inline constexpr std::uint32_t kVersion = 1;
+inline constexpr std::uint32_t kFormatVersion = 1;
 inline constexpr std::size_t kHeaderSize = 64;
 // The appearance the front end finds a landmark by: its stored first-sighting window.
 inline constexpr int kMapPatchSide = 31;
@@ -77,7 +78,7 @@ inline std::size_t encode(const MapSnapshot& m, std::uint8_t* out, std::size_t c
   }
   log::ByteWriter w(out, capacity);
   w.bytes(kMagic.data(), kMagic.size());
-  w.u32(kVersion);
+  w.u32(kFormatVersion);
   w.u32(static_cast<std::uint32_t>(kHeaderSize));
   w.u32(static_cast<std::uint32_t>(kRecordSize));
   w.u32(static_cast<std::uint32_t>(m.count));
@@ -195,7 +196,7 @@ inline Decoded decode(const std::uint8_t* data, std::size_t size, MapSnapshot& m
     }
   }
   d.version = r.u32();
-  if (d.version != kVersion) {
+  if (d.version != kFormatVersion) {
     return refuse(Refusal::kVersion, 8);
   }
   const std::uint32_t header_size = r.u32();
