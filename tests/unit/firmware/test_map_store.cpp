@@ -329,6 +329,33 @@ TEST(MapStore, AMapThatCannotBeReadIsKeptAndNotOverwritten) {
   EXPECT_TRUE(fs::is_directory(path));
 }
 
+TEST(MapConfig, KeysParseRoundTripAndAreRangeChecked) {
+  EXPECT_EQ(firmware::FirmwareConfig{}.map.path, "");
+  EXPECT_EQ(firmware::FirmwareConfig{}.map.save_interval_s, 300.0);
+  const firmware::ConfigResult r = firmware::parse_config(
+      "map:\n  path: \"/var/lib/cleanslam/map.bin\"\n  save_interval_s: 60\n", "m.yaml", {});
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.config.map.path, "/var/lib/cleanslam/map.bin");
+  EXPECT_EQ(r.config.map.save_interval_s, 60.0);
+  const std::string text = firmware::config_text(r.config);
+  const firmware::ConfigResult back = firmware::parse_config(text, "back.yaml", {});
+  ASSERT_TRUE(back.ok());
+  EXPECT_EQ(back.config.map.path, r.config.map.path);
+  EXPECT_EQ(back.config.map.save_interval_s, 60.0);
+  EXPECT_EQ(firmware::config_text(back.config), text);
+  for (const char* bad : {"map.save_interval_s=0", "map.save_interval_s=-5",
+                          "map.save_interval_s=1e9"}) {
+    const firmware::ConfigResult b = firmware::parse_config("", "m.yaml", {bad});
+    ASSERT_EQ(b.errors.size(), 1U) << bad;
+    EXPECT_NE(b.errors[0].find("map.save_interval_s"), std::string::npos) << b.errors[0];
+    EXPECT_NE(b.errors[0].find("out of range"), std::string::npos) << b.errors[0];
+  }
+  const firmware::ConfigResult unknown = firmware::parse_config("map:\n  paht: x\n", "u.yaml", {});
+  ASSERT_EQ(unknown.errors.size(), 1U);
+  EXPECT_NE(unknown.errors[0].find("u.yaml:2"), std::string::npos) << unknown.errors[0];
+  EXPECT_NE(unknown.errors[0].find("map.paht"), std::string::npos) << unknown.errors[0];
+}
+
 // A short simulated run through `cleanslam --dataset` with map.path set (and recorded), and the
 // same run in-process for the landmarks it ends with.
 struct RealRun {
