@@ -79,8 +79,9 @@ void MapStore::refuse(StartCheck& c, const std::string& reason) {
     const int e = errno;
     c.found = Found::kUnreadable;
     saving_allowed_ = false;
-    c.messages.push_back({true, options_.path + ": refused: " + reason + "; it could not be moved to " +
-                                    refused_path_ + ": " + errno_text(e) +
+    c.messages.push_back({true, options_.path + ": refused: " + reason +
+                                    "; it could not be moved to " + refused_path_ + ": " +
+                                    errno_text(e) +
                                     ": it is kept as it is, and this run does not save its map"});
     return;
   }
@@ -99,8 +100,8 @@ MapStore::StartCheck MapStore::check_at_start() {
                                        "before it is " +
                                        options_.path});
     } else {
-      c.messages.push_back({true, tmp_path_ + ": a save cut short, could not be removed: " +
-                                      errno_text(errno)});
+      c.messages.push_back(
+          {true, tmp_path_ + ": a save cut short, could not be removed: " + errno_text(errno)});
     }
   }
   const int fd = ::open(options_.path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -157,8 +158,8 @@ MapStore::StartCheck MapStore::check_at_start() {
   char when[64];
   std::snprintf(when, sizeof when, "%.1f", hal::to_seconds(snapshot_->saved_at_ns));
   c.messages.push_back({false, options_.path + ": a saved map of " +
-                                   std::to_string(snapshot_->count) + " landmarks, saved at t=" +
-                                   when + " s"});
+                                   std::to_string(snapshot_->count) +
+                                   " landmarks, saved at t=" + when + " s"});
   c.messages.push_back({false,
                         "starting from a saved map is not built yet: this run makes a new map, "
                         "which replaces " +
@@ -208,8 +209,8 @@ bool MapStore::save(const Estimator& estimator, hal::TimeNs t_ns, Saved& saved,
   }
   if (failed != nullptr) {
     ::unlink(tmp_path_.c_str());
-    error = tmp_path_ + ": " + failed + ": " + errno_text(e) + "; " + options_.path +
-            " is unchanged";
+    error =
+        tmp_path_ + ": " + failed + ": " + errno_text(e) + "; " + options_.path + " is unchanged";
     return false;
   }
   const int dir = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
@@ -247,8 +248,8 @@ void PeriodicMapSave::run(const Loop& loop, hal::TimeNs now) {
   MapStore::Saved saved;
   std::string error;
   if (store_.save(loop.estimator(), now, saved, error)) {
-    std::fprintf(stderr, "%s: map: saved %d landmarks to %s (%zu KB)\n", program_,
-                 saved.landmarks, store_.path().c_str(), kilobytes(saved.bytes));
+    std::fprintf(stderr, "%s: map: saved %d landmarks to %s (%zu KB)\n", program_, saved.landmarks,
+                 store_.path().c_str(), kilobytes(saved.bytes));
   } else {
     std::fprintf(stderr, "%s: warning: map: %s\n", program_, error.c_str());
   }
@@ -256,8 +257,7 @@ void PeriodicMapSave::run(const Loop& loop, hal::TimeNs now) {
 
 void print_start_check(const MapStore::StartCheck& check, const char* program) {
   for (const MapStore::Message& m : check.messages) {
-    std::fprintf(stderr, "%s: %smap: %s\n", program, m.warning ? "warning: " : "",
-                 m.text.c_str());
+    std::fprintf(stderr, "%s: %smap: %s\n", program, m.warning ? "warning: " : "", m.text.c_str());
   }
 }
 

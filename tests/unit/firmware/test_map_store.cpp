@@ -265,8 +265,7 @@ TEST(MapStore, ATemporaryFileThatCannotBeCreatedKeepsTheOldMap) {
   MapStore::Saved saved;
   std::string error;
   EXPECT_FALSE(store.save(s.estimator, 2, saved, error));
-  EXPECT_NE(error.find(s.path + ".tmp: cannot create: Is a directory"), std::string::npos)
-      << error;
+  EXPECT_NE(error.find(s.path + ".tmp: cannot create: Is a directory"), std::string::npos) << error;
   EXPECT_EQ(read_bytes(s.path), s.before);
 }
 
@@ -343,8 +342,8 @@ TEST(MapConfig, KeysParseRoundTripAndAreRangeChecked) {
   EXPECT_EQ(back.config.map.path, r.config.map.path);
   EXPECT_EQ(back.config.map.save_interval_s, 60.0);
   EXPECT_EQ(firmware::config_text(back.config), text);
-  for (const char* bad : {"map.save_interval_s=0", "map.save_interval_s=-5",
-                          "map.save_interval_s=1e9"}) {
+  for (const char* bad :
+       {"map.save_interval_s=0", "map.save_interval_s=-5", "map.save_interval_s=1e9"}) {
     const firmware::ConfigResult b = firmware::parse_config("", "m.yaml", {bad});
     ASSERT_EQ(b.errors.size(), 1U) << bad;
     EXPECT_NE(b.errors[0].find("map.save_interval_s"), std::string::npos) << b.errors[0];
@@ -380,8 +379,7 @@ struct RealRun {
     }
     map_path = dir.file("map.bin");
     log_path = dir.file("run.log");
-    const std::vector<std::string> sets{"map.path=\"" + map_path + "\"",
-                                        "map.save_interval_s=5"};
+    const std::vector<std::string> sets{"map.path=\"" + map_path + "\"", "map.save_interval_s=5"};
     std::vector<std::string> args{"cleanslam", "--dataset", dataset, "--record", log_path};
     for (const std::string& s : sets) {
       args.emplace_back("--set");
@@ -515,8 +513,8 @@ TEST(MapStoreFirmware, ATruncatedMapIsRefusedAndMovedAside) {
     MapStore store(options(path));
     const MapStore::StartCheck c = store.check_at_start();
     ASSERT_EQ(c.found, MapStore::Found::kRefused) << "cut at " << k << ": " << all_text(c);
-    const mf::Refusal expected = k < mf::kHeaderSize + 4 ? mf::Refusal::kTooShort
-                                                         : mf::Refusal::kSize;
+    const mf::Refusal expected =
+        k < mf::kHeaderSize + 4 ? mf::Refusal::kTooShort : mf::Refusal::kSize;
     ASSERT_EQ(c.decoded.refusal, expected) << "cut at " << k;
     const std::string text = all_text(c);
     ASSERT_NE(text.find(path + ": refused: " + mf::to_string(expected) + " at byte "),

@@ -14,7 +14,7 @@
 namespace cleanslam::firmware {
 
 struct MapStoreOptions {
-  std::string path;               // the map file (hal/map_file.hpp); "": none
+  std::string path;                // the map file (hal/map_file.hpp); "": none
   double save_interval_s = 300.0;  // saved this often while running, and at the end of a run
 };
 
