@@ -75,6 +75,8 @@ MapStore::MapStore(MapStoreOptions options)
 
 void MapStore::refuse(StartCheck& c, const std::string& reason) {
   c.found = Found::kRefused;
+  struct stat st {};
+  const bool older = ::lstat(refused_path_.c_str(), &st) == 0;
   if (std::rename(options_.path.c_str(), refused_path_.c_str()) != 0) {
     const int e = errno;
     c.found = Found::kUnreadable;
@@ -86,7 +88,8 @@ void MapStore::refuse(StartCheck& c, const std::string& reason) {
     return;
   }
   c.messages.push_back({true, options_.path + ": refused: " + reason + "; moved to " +
-                                  refused_path_ + " (replacing an older one): a new map starts"});
+                                  refused_path_ + (older ? " (replacing an older one)" : "") +
+                                  ": a new map starts"});
 }
 
 MapStore::StartCheck MapStore::check_at_start() {

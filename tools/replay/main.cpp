@@ -50,7 +50,7 @@ constexpr const char* kUsage =
     "               (a feature-level dataset's camera silences are the scene's: only noted)\n"
     "Progress and the firmware's health report go to stderr: a bar on a terminal, else a line\n"
     "every 10 %. Exit status: 0 done, 1 a sensor gap (outputs written), 2 bad arguments,\n"
-    "configuration or dataset, 130 stopped by a signal.\n";
+    "configuration or dataset, or the map not saved, 130 stopped by a signal.\n";
 
 constexpr std::array<const char*, 6> kOutputs{"trajectory.tum",     "trajectory.tum.cov",
                                               "dead_reckoning.tum", "dead_reckoning_published.tum",

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "allocation_counter.hpp"
 #include "cleanslam/firmware/config.hpp"
 #include "cleanslam/firmware/map_store.hpp"
 #include "cleanslam/firmware/program.hpp"
@@ -186,6 +187,27 @@ TEST(MapStore, ASecondSaveReplacesTheFirstWhole) {
   ASSERT_EQ(again.check_at_start().found, MapStore::Found::kValid);
   EXPECT_EQ(again.snapshot().count, 2);
   EXPECT_EQ(again.snapshot().landmarks[1].position_m, estimator.map.landmarks[1].position_m);
+}
+
+TEST(MapStore, APeriodicSaveAllocatesNothing) {
+  TempDir dir("alloc");
+  SnapshotEstimator estimator;
+  fill_map(estimator.map, 0.0);
+  MapStoreOptions o = options(dir.file("map.bin"));
+  o.save_interval_s = 1.0;
+  MapStore store(o);
+  firmware::Loop loop(firmware::LoopOptions{}, estimator);
+  firmware::PeriodicMapSave saving(store, "test");
+  saving.run(loop, 0);
+  std::size_t allocations = 0;
+  {
+    test::AllocationScope scope;
+    saving.run(loop, hal::kNsPerSecond);
+    allocations = scope.count();
+  }
+  EXPECT_EQ(allocations, 0U);
+  MapStore again(options(dir.file("map.bin")));
+  EXPECT_EQ(again.check_at_start().found, MapStore::Found::kValid);
 }
 
 TEST(MapStore, SaveIsDueOnceEveryInterval) {
@@ -522,6 +544,7 @@ TEST(MapStoreFirmware, ATruncatedMapIsRefusedAndMovedAside) {
         << text;
     ASSERT_NE(text.find("moved to " + path + ".refused"), std::string::npos) << text;
     ASSERT_NE(text.find("a new map starts"), std::string::npos) << text;
+    ASSERT_EQ(text.find("replacing an older one") != std::string::npos, k > 0) << text;
     ASSERT_FALSE(fs::exists(path)) << "cut at " << k;
     ASSERT_EQ(fs::file_size(path + ".refused"), k) << "the refused file is not kept whole";
     ASSERT_EQ(store.snapshot().count, 0);
