@@ -107,7 +107,8 @@ MapStore::StartCheck MapStore::check_at_start() {
           {true, tmp_path_ + ": a save cut short, could not be removed: " + errno_text(errno)});
     }
   }
-  const int fd = ::open(options_.path.c_str(), O_RDONLY | O_CLOEXEC);
+  const int fd =
+      ::open(options_.path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);  // a FIFO must not block
   if (fd < 0) {
     const int e = errno;
     if (e == ENOENT) {

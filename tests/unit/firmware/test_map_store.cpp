@@ -377,6 +377,16 @@ TEST(MapConfig, KeysParseRoundTripAndAreRangeChecked) {
   EXPECT_NE(unknown.errors[0].find("map.paht"), std::string::npos) << unknown.errors[0];
 }
 
+TEST(MapStore, AFifoWhereTheMapShouldBeDoesNotHoldUpTheStart) {
+  TempDir dir("fifo");
+  const std::string path = dir.file("map.bin");
+  ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+  MapStore store(options(path));
+  const MapStore::StartCheck c = store.check_at_start();
+  EXPECT_EQ(c.found, MapStore::Found::kUnreadable) << all_text(c);
+  EXPECT_NE(all_text(c).find(path + ": not a regular file"), std::string::npos) << all_text(c);
+}
+
 // A short simulated run through `cleanslam --dataset` with map.path set (and recorded), and the
 // same run in-process for the landmarks it ends with.
 struct RealRun {
@@ -408,6 +418,7 @@ struct RealRun {
       args.push_back(s);
     }
     std::vector<char*> argv;
+    argv.reserve(args.size());
     for (std::string& a : args) {
       argv.push_back(a.data());
     }
