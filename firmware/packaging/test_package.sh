@@ -39,9 +39,13 @@ for script in postinst prerm postrm; do
   sh -n "$work/control/$script" || fail "$script: syntax error"
 done
 grep -q "adduser --system" "$work/control/postinst" || fail "postinst creates no system user"
+grep -q "install -d .*/var/lib/cleanslam" "$work/control/postinst" ||
+  fail "postinst does not create /var/lib/cleanslam (the map's directory)"
 
 dpkg-deb -x "$deb" "$work/root"
 file -L "$work/root/usr/bin/cleanslam" | grep -q "ARM aarch64" || fail "binary is not aarch64"
+grep -qF 'path: "/var/lib/cleanslam/map.bin"' "$work/root/etc/cleanslam/cleanslam.yaml" ||
+  fail "the packaged configuration keeps no map in /var/lib/cleanslam"
 
 unit="$work/root/usr/lib/systemd/system/cleanslam.service"
 for line in "Type=notify" "User=cleanslam" "Restart=on-failure" "WatchdogSec=5s" \
@@ -87,9 +91,10 @@ sim="${CLEANSLAM_SIM:-$build/bin/cleanslam-sim}"
 "${qemu[@]}" "$bin" --config "$work/root/etc/cleanslam/cleanslam.yaml" \
   --set source.kind=dataset --set source.path="$work/dataset" \
   --set calibration_from_dataset=true --set sinks.can=false \
-  --set sinks.tum="$work/trajectory.tum" >"$work/run.log" 2>&1 ||
+  --set sinks.tum="$work/trajectory.tum" --set map.path="$work/map.bin" >"$work/run.log" 2>&1 ||
   { tail -20 "$work/run.log" >&2; fail "the packaged cleanslam failed on the dataset"; }
 poses=$(grep -vc '^#' "$work/trajectory.tum" || true)
 [ "$poses" -ge 10 ] || fail "only $poses poses written from the dataset"
-echo "packaged binary on a simulated dataset: $poses poses"
+[ -s "$work/map.bin" ] || fail "no map saved to $work/map.bin: $(grep 'map:' "$work/run.log")"
+echo "packaged binary on a simulated dataset: $poses poses, $(grep 'map: saved' "$work/run.log" | tail -1)"
 echo "package test: PASS"

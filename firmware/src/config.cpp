@@ -288,6 +288,13 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
         << 10;
     r.done();
   }
+  {
+    Section m = top.sub("map");
+    auto& x = cfg.map;
+    x.path = m.text("path", x.path);
+    x.save_interval_s = m.number("save_interval_s", x.save_interval_s, 0.0, 86400.0, true);
+    m.done();
+  }
   top.done();
 }
 
@@ -496,6 +503,9 @@ std::string config_text(const FirmwareConfig& c) {
     << "  status_led_line: " << b.status_led_line << "\n"
     << "  gyro_ready_line: " << b.gyro_ready_line << "\n"
     << "  gyro_ready_max_latency_s: " << fmt(b.gyro_ready_max_latency_s) << "\n";
+  s << "map:\n"
+    << "  path: " << quoted(c.map.path) << "\n"
+    << "  save_interval_s: " << fmt(c.map.save_interval_s) << "\n";
   return s.str();
 }
 

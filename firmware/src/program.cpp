@@ -8,6 +8,7 @@
 #include "cleanslam/drivers/robot_drivers.hpp"
 #include "cleanslam/firmware/clocks.hpp"
 #include "cleanslam/firmware/health_report.hpp"
+#include "cleanslam/firmware/map_store.hpp"
 #include "cleanslam/firmware/recorder.hpp"
 #include "cleanslam/firmware/replay_check.hpp"
 #include "cleanslam/firmware/run.hpp"
@@ -443,20 +444,33 @@ int run_normal(const Args& args) {
   }
   HealthReport health("cleanslam", stderr);
   loop.set_health_observer(&health);
+  std::optional<MapStore> map;
+  std::optional<PeriodicMapSave> map_saving;
+  if (!config.map.path.empty()) {
+    map.emplace(config.map);
+    print_start_check(map->check_at_start(), "cleanslam");
+    map_saving.emplace(*map, "cleanslam");
+  }
+  LiveTask* saving = map_saving ? &*map_saving : nullptr;
   StopSignals signals;
   RunEnd end = RunEnd::kStopped;
+  hal::TimeNs end_ns = 0;
   if (robot) {
     MonotonicClock clock;
     std::optional<StatusIndicator> indicator;
     if (robot->status_led() != nullptr) {
       indicator.emplace(*robot->status_led(), robot->inputs_missing());
     }
-    end = run_live(loop, clock, signals, indicator ? &*indicator : nullptr);
+    TaskPair tasks(indicator ? &*indicator : nullptr, saving);
+    end = run_live(loop, clock, signals, &tasks);
+    end_ns = clock.now();
   } else {
     VirtualClock clock;
-    end = run_virtual(loop, clock, config.source.realtime, &signals);
+    end = run_virtual(loop, clock, config.source.realtime, &signals, saving);
+    end_ns = clock.now();
   }
   recorder.close();
+  const bool map_saved = !map || save_at_end(*map, *estimator, end_ns, "cleanslam");
   if (log_source != nullptr) {
     report_log_source(*log_source, config.source.path, &loop);
   }
@@ -479,7 +493,7 @@ int run_normal(const Args& args) {
     std::fprintf(stderr, "cleanslam: error: %s\n", dataset->stream_error().c_str());
     return 2;
   }
-  return 0;
+  return map_saved ? 0 : 2;
 }
 
 void print_camera_offset(const CameraOffsetEstimate::Result& c, std::FILE* out) {

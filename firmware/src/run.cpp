@@ -113,7 +113,23 @@ RunEnd run_live(Loop& loop, const hal::Clock& clock, const StopSignals& signals,
   return end;
 }
 
-RunEnd run_virtual(Loop& loop, VirtualClock& clock, bool realtime, const StopSignals* signals) {
+void TaskPair::run(const Loop& loop, hal::TimeNs now) {
+  if (first_ != nullptr) {
+    first_->run(loop, now);
+  }
+  if (second_ != nullptr) {
+    second_->run(loop, now);
+  }
+}
+
+hal::TimeNs TaskPair::next_due_ns() const {
+  const hal::TimeNs a = first_ != nullptr ? first_->next_due_ns() : -1;
+  const hal::TimeNs b = second_ != nullptr ? second_->next_due_ns() : -1;
+  return a < 0 ? b : (b < 0 ? a : std::min(a, b));
+}
+
+RunEnd run_virtual(Loop& loop, VirtualClock& clock, bool realtime, const StopSignals* signals,
+                   LiveTask* task) {
   const auto next_event = [&loop] {
     hal::TimeNs t = -1;
     for (const hal::SensorSource* s : loop.sources()) {
@@ -156,6 +172,9 @@ RunEnd run_virtual(Loop& loop, VirtualClock& clock, bool realtime, const StopSig
     }
     clock.set(t);
     loop.iterate(t);
+    if (task != nullptr) {
+      task->run(loop, t);
+    }
   }
   loop.finish();
   return end;

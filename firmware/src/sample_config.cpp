@@ -94,6 +94,12 @@ robot:
   status_led_line: -1        # GPIO output of the status LED (steady: OK, 1 Hz: degraded, 4 Hz: fault), -1: none
   gyro_ready_line: -1        # GPIO input, rising edge = gyro sampled: stamps CAN gyro frames, -1: CAN reception time
   gyro_ready_max_latency_s: 0.008  # a gyro frame takes the latest edge at most this long before its reception
+
+# The map kept across cleaning runs (docs/architecture.md, "Map file"): checked at start, saved
+# atomically every save_interval_s and at the end of a run (not by `cleanslam --replay`).
+map:
+  path: ""                   # the map file, "" for none (the robot's package: /var/lib/cleanslam/map.bin)
+  save_interval_s: 300       # while running, (0, 86400]
 )yaml";
 
 const char* section_intro(const std::string& section) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cleanslam/firmware/program.hpp"
+#include "cleanslam/slam_core/map_snapshot.hpp"
 
 namespace cleanslam::firmware {
 
@@ -78,6 +79,11 @@ int SlamEstimator::landmarks(LandmarkEstimate* out, int max) const {
     }
   }
   return n;
+}
+
+bool SlamEstimator::map_snapshot(hal::TimeNs t_ns, hal::map_file::MapSnapshot& out) const {
+  slam_core::snapshot_map(*system_, t_ns, out);
+  return true;
 }
 
 }  // namespace cleanslam::firmware

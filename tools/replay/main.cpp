@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "cleanslam/firmware/config.hpp"
 #include "cleanslam/firmware/health_report.hpp"
 #include "cleanslam/firmware/loop.hpp"
+#include "cleanslam/firmware/map_store.hpp"
 #include "cleanslam/firmware/program.hpp"
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/sinks.hpp"
@@ -40,13 +42,15 @@ constexpr const char* kUsage =
     "                      the same time stamps whatever the camera mode\n"
     "  landmarks.csv       slot,x,y,z,sxx,sxy,sxz,syy,syz,szz\n"
     "  diagnostics.csv     one record per observation of a visual update\n"
+    "With --set map.path=FILE the map is checked at start and saved there every\n"
+    "map.save_interval_s and at the end (docs/architecture.md, \"Map file\").\n"
     "--force        replace the outputs of an earlier run in DIR\n"
     "--accept-gaps  exit 0 even when a sensor falls silent for longer than its timeout\n"
     "               (loop.gyro_timeout_s, encoder_timeout_s, camera_timeout_s) or ends early\n"
     "               (a feature-level dataset's camera silences are the scene's: only noted)\n"
     "Progress and the firmware's health report go to stderr: a bar on a terminal, else a line\n"
     "every 10 %. Exit status: 0 done, 1 a sensor gap (outputs written), 2 bad arguments,\n"
-    "configuration or dataset, 130 stopped by a signal.\n";
+    "configuration or dataset, or the map not saved, 130 stopped by a signal.\n";
 
 constexpr std::array<const char*, 6> kOutputs{"trajectory.tum",     "trajectory.tum.cov",
                                               "dead_reckoning.tum", "dead_reckoning_published.tum",
@@ -244,10 +248,20 @@ int main(int argc, char** argv) {
   loop.add_pose_sink(&progress);
   firmware::HealthReport health("cleanslam-replay", stderr);
   loop.set_health_observer(&health);
+  std::optional<firmware::MapStore> map;
+  std::optional<firmware::PeriodicMapSave> map_saving;
+  if (!config.map.path.empty()) {
+    map.emplace(config.map);
+    firmware::print_start_check(map->check_at_start(), "cleanslam-replay");
+    map_saving.emplace(*map, "cleanslam-replay");
+  }
   firmware::VirtualClock clock;
   firmware::StopSignals signals;
-  const firmware::RunEnd end = firmware::run_virtual(loop, clock, false, &signals);
+  const firmware::RunEnd end =
+      firmware::run_virtual(loop, clock, false, &signals, map_saving ? &*map_saving : nullptr);
   health.finish(clock.now());
+  const bool map_saved =
+      !map || firmware::save_at_end(*map, *estimator, clock.now(), "cleanslam-replay");
   trajectory.close();
   dead_reckoning.close();
   dead_reckoning_published.close();
@@ -264,6 +278,9 @@ int main(int argc, char** argv) {
   }
   if (!source->stream_error().empty()) {
     return fail(source->stream_error());
+  }
+  if (!map_saved) {
+    return 2;
   }
   if (end == firmware::RunEnd::kStopped) {
     return 130;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cleanslam/firmware/loop.hpp"
+#include "cleanslam/firmware/map_store.hpp"
 #include "cleanslam/firmware/recorder.hpp"
 #include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/readers/result.hpp"
@@ -49,6 +50,7 @@ struct FirmwareConfig {
   SinkSettings sinks;
   RecorderOptions recorder;
   RobotSettings robot;
+  MapStoreOptions map;
 };
 
 struct ConfigResult {

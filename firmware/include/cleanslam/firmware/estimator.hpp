@@ -5,6 +5,7 @@
 
 #include "cleanslam/hal/frame.hpp"
 #include "cleanslam/hal/log_format.hpp"
+#include "cleanslam/hal/map_file.hpp"
 #include "cleanslam/hal/pose.hpp"
 #include "cleanslam/hal/samples.hpp"
 
@@ -82,6 +83,11 @@ class Estimator {
   [[nodiscard]] virtual ObservationRejections observation_rejections() const { return {}; }
   // False when the heading does not fuse the wheels.
   virtual bool wheel_yaw(WheelYawReport& /*out*/) const { return false; }
+  // The map to keep for the next run (hal/map_file.hpp), saved at t_ns; false when the estimator
+  // keeps no map. Changes nothing in the estimate.
+  virtual bool map_snapshot(hal::TimeNs /*t_ns*/, hal::map_file::MapSnapshot& /*out*/) const {
+    return false;
+  }
 };
 
 }  // namespace cleanslam::firmware

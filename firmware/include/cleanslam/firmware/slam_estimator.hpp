@@ -42,6 +42,7 @@ class SlamEstimator final : public Estimator {
   [[nodiscard]] MapCounters map_counters() const override;
   [[nodiscard]] ObservationRejections observation_rejections() const override;
   bool wheel_yaw(WheelYawReport& out) const override;
+  bool map_snapshot(hal::TimeNs t_ns, hal::map_file::MapSnapshot& out) const override;
 
   [[nodiscard]] const slam_core::SlamSystem& system() const { return *system_; }
   [[nodiscard]] const slam_core::Ekf& ekf() const { return system_->ekf(); }

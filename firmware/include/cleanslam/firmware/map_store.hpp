@@ -1,0 +1,96 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cleanslam/firmware/estimator.hpp"
+#include "cleanslam/firmware/run.hpp"
+#include "cleanslam/hal/map_file.hpp"
+#include "cleanslam/hal/time.hpp"
+
+namespace cleanslam::firmware {
+
+struct MapStoreOptions {
+  std::string path;                // the map file (hal/map_file.hpp); "": none
+  double save_interval_s = 300.0;  // saved this often while running, and at the end of a run
+};
+
+// The map file kept across cleaning runs. Saving is atomic: the bytes go to `<path>.tmp` in the
+// same directory, which is synced, renamed onto `<path>`, and the directory synced; a save cut
+// short leaves the previous map whole. At start-up a leftover `<path>.tmp` is removed and `<path>`
+// is checked; a file the decoder refuses is moved aside to `<path>.refused`, never overwritten.
+// The snapshot and the file buffer are allocated once, in the constructor; a save allocates
+// nothing unless it fails.
+class MapStore {
+ public:
+  enum class Found {
+    kNone,        // no file: a new map
+    kValid,       // a map the decoder accepts, in snapshot()
+    kRefused,     // refused and moved aside to `<path>.refused`
+    kUnreadable,  // could not be read or moved aside: kept as it is, and this run saves nothing
+  };
+  struct Message {
+    bool warning = false;
+    std::string text;  // names the file
+  };
+  struct StartCheck {
+    Found found = Found::kNone;
+    hal::map_file::Decoded decoded;
+    std::vector<Message> messages;
+  };
+  struct Saved {
+    int landmarks = 0;
+    std::size_t bytes = 0;
+  };
+
+  explicit MapStore(MapStoreOptions options);
+
+  // What `<path>` holds; the map found stays in snapshot() until the first save.
+  StartCheck check_at_start();
+  // The estimator's map, written atomically. On failure `error` names the file and the reason,
+  // and the map saved before is untouched.
+  bool save(const Estimator& estimator, hal::TimeNs t_ns, Saved& saved, std::string& error);
+  // True once every save interval, counted from the first call.
+  [[nodiscard]] bool due(hal::TimeNs t_ns);
+  // False when the file found at start could be neither read nor moved aside.
+  [[nodiscard]] bool saving_allowed() const { return saving_allowed_; }
+  [[nodiscard]] const hal::map_file::MapSnapshot& snapshot() const { return *snapshot_; }
+  [[nodiscard]] const std::string& path() const { return options_.path; }
+
+ private:
+  void refuse(StartCheck& c, const std::string& reason);
+
+  MapStoreOptions options_;
+  std::string tmp_path_;
+  std::string refused_path_;
+  std::string dir_;
+  hal::TimeNs interval_ns_ = 0;
+  hal::TimeNs next_due_ns_ = -1;
+  bool saving_allowed_ = true;
+  std::unique_ptr<hal::map_file::MapSnapshot> snapshot_;
+  std::vector<std::uint8_t> buffer_;
+};
+
+// Saves the map every map.save_interval_s from a runner (run.hpp), and tells on stderr as
+// "<program>: map: saved N landmarks to PATH (K KB)".
+class PeriodicMapSave final : public LiveTask {
+ public:
+  PeriodicMapSave(MapStore& store, const char* program) : store_(store), program_(program) {}
+  void run(const Loop& loop, hal::TimeNs now) override;
+  [[nodiscard]] hal::TimeNs next_due_ns() const override { return -1; }
+
+ private:
+  MapStore& store_;
+  const char* program_;
+};
+
+// Prints check_at_start()'s messages as "<program>: map: ..." (warnings marked).
+void print_start_check(const MapStore::StartCheck& check, const char* program);
+// Saves at the end of a run and tells; false (the error printed) when the save failed.
+bool save_at_end(MapStore& store, const Estimator& estimator, hal::TimeNs t_ns,
+                 const char* program);
+
+}  // namespace cleanslam::firmware
