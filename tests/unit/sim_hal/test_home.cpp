@@ -232,6 +232,11 @@ TEST(SimWaypoints, APathThroughAWallOrOutOfTheWorldIsRefused) {
   ASSERT_FALSE(one.ok());
   EXPECT_NE(one.error().find("path.waypoints: a waypoints path needs two points"),
             std::string::npos);
+  auto flat =
+      sim::load_scenario("default-room", {"world.walls=[{min: [1, 1, 0], max: [1, 2, 2.5]}]"});
+  ASSERT_FALSE(flat.ok());
+  EXPECT_NE(flat.error().find("world.walls[0]: min must be below max"), std::string::npos)
+      << flat.error();
   auto bad_index = sim::load_scenario("default-room", {"world.moved=[{furniture: 4, by: [1, 0]}]"});
   ASSERT_FALSE(bad_index.ok());
   EXPECT_NE(bad_index.error().find("world.moved[0].furniture: 4 is not an index"),
