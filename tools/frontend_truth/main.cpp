@@ -334,7 +334,7 @@ int main(int argc, char** argv) {
   }
   const sim::Scenario& sc = loaded.value();
   const auto& cam = sc.camera;
-  sim::Random world_rng(sc.seed, sim::stream::kWorld);
+  sim::Random world_rng(sc.world_seed(), sim::stream::kWorld);
   sim::Random path_rng(sc.seed, sim::stream::kPath);
   const sim::World world(sc, world_rng);
   const sim::PathPlan plan = sim::plan_path(sc, path_rng);

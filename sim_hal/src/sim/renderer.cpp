@@ -47,8 +47,9 @@ Vec3 pixel_ray(const Scenario::Camera& c, double u, double v) {
 Renderer::Renderer(const Scenario& sc)
     : camera_(sc.camera),
       room_(sc.world.size),
-      boxes_(sc.world.furniture),
-      seed_(sc.seed * 0x2545F4914F6CDD1DULL + 7),
+      boxes_(solid_boxes(sc.world)),
+      first_wall_surface_(6 + static_cast<int>(sc.world.furniture.size())),
+      seed_(sc.world_seed() * 0x2545F4914F6CDD1DULL + 7),
       noise_sigma_(sc.camera.image_noise),
       blur_(sc.camera.blur),
       shot_gain_(sc.camera.shot_noise_gain) {
@@ -103,7 +104,7 @@ double Renderer::photo_albedo(int surface, double a, double b, double footprint)
     return 0.2 + 0.45 * photos_.sample(kGravel, a / kTile, b / kTile, footprint / kTile);
   }
   if (surface == 1) return 0.85;
-  if (surface >= 6) {
+  if (surface >= 6 && surface < first_wall_surface_) {
     constexpr double kTile = 0.8;
     const std::uint64_t h = hash3(seed_, surface, 0, 3);
     const std::size_t photo = kFirstPicture + h % pictures;
@@ -151,10 +152,11 @@ double Renderer::albedo(int surface, double a, double b) const {
   }
   if (surface == 1) return 0.85;
   // Walls and furniture: coarse 0.5 m cells, each plain, a checker, random blocks or a poster.
-  const double coarse = surface >= 6 ? 0.3 : 0.5;
+  const bool furniture = surface >= 6 && surface < first_wall_surface_;
+  const double coarse = furniture ? 0.3 : 0.5;
   const std::int64_t ci = cell(a, coarse), cj = cell(b, coarse);
   const std::uint64_t h = hash3(seed_ ^ sid, ci, cj, 1);
-  const double base = surface >= 6 ? 0.25 + 0.4 * unit(h, 0) : 0.55 + 0.25 * unit(h, 0);
+  const double base = furniture ? 0.25 + 0.4 * unit(h, 0) : 0.55 + 0.25 * unit(h, 0);
   switch (h % 8) {
     case 0:
     case 1:
@@ -250,7 +252,11 @@ Renderer::Hit Renderer::cast(Vec3 o, Vec3 d) const {
     }
     if (miss || axis < 0) continue;
     const Vec3 p = o + t0 * d;
-    const int surface = 6 + static_cast<int>(k);
+    // An interior wall's two faces (and its jambs) are two surfaces, each with its own pattern.
+    const int surface =
+        6 + static_cast<int>(k) < first_wall_surface_
+            ? 6 + static_cast<int>(k)
+            : 2 * (6 + static_cast<int>(k)) - first_wall_surface_ + (dd[axis] < 0.0 ? 1 : 0);
     const double cosi = std::abs(dd[axis]);
     if (axis == 0) consider(t0, surface, p.y, p.z, cosi);
     if (axis == 1) consider(t0, surface, p.x, p.z, cosi);

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "cleanslam/readers/yaml_document.hpp"
+#include "cleanslam/sim_hal/sim/waypoint_check.hpp"
 
 namespace cleanslam::sim_hal::sim {
 namespace {
@@ -113,6 +114,18 @@ int read_int(MappingReader& r, const char* key, int fallback) {
 
 }  // namespace
 
+std::vector<Box> solid_boxes(const Scenario::World& world) {
+  std::vector<Box> out;
+  for (Box b : world.furniture) {
+    b.min = b.min + b.moved_by;
+    b.max = b.max + b.moved_by;
+    b.moved_by = Vec3{};
+    out.push_back(b);
+  }
+  out.insert(out.end(), world.walls.begin(), world.walls.end());
+  return out;
+}
+
 readers::Result<Scenario> load_scenario(const std::string& name_or_path,
                                         const std::vector<std::string>& overrides) {
   using R = readers::Result<Scenario>;
@@ -134,15 +147,44 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
   {
     MappingReader w = r.optional_mapping("world");
     sc.world.size = read_vec3(w, "size", sc.world.size);
-    if (const Node* f = w.node("furniture"); f != nullptr) {
+    if (w.has("seed")) sc.world.seed = static_cast<std::uint64_t>(w.optional_int("seed", 0));
+    for (const bool furniture : {true, false}) {
+      const std::string key = furniture ? "furniture" : "walls";
+      const Node* f = w.node(key);
+      if (f == nullptr) continue;
       if (!f->is_sequence()) {
-        diag.errors.push_back(f->location.str() + ": world.furniture: expected a sequence");
+        diag.errors.push_back(f->location.str() + ": world." + key + ": expected a sequence");
+        continue;
+      }
+      for (std::size_t i = 0; i < f->items.size(); ++i) {
+        MappingReader b(f->items[i], "world." + key + "[" + std::to_string(i) + "]", diag);
+        Box box{read_vec3(b, "min", {}), read_vec3(b, "max", {})};
+        b.report_unknown_keys();
+        if (!(box.min.x < box.max.x && box.min.y < box.max.y && box.min.z < box.max.z)) {
+          diag.errors.push_back("world." + key + "[" + std::to_string(i) +
+                                "]: min must be below max on every axis");
+        }
+        (furniture ? sc.world.furniture : sc.world.walls).push_back(box);
+      }
+    }
+    if (const Node* mv = w.node("moved"); mv != nullptr) {
+      if (!mv->is_sequence()) {
+        diag.errors.push_back(mv->location.str() + ": world.moved: expected a sequence");
       } else {
-        for (std::size_t i = 0; i < f->items.size(); ++i) {
-          MappingReader b(f->items[i], "world.furniture[" + std::to_string(i) + "]", diag);
-          Box box{read_vec3(b, "min", {}), read_vec3(b, "max", {})};
-          b.report_unknown_keys();
-          sc.world.furniture.push_back(box);
+        for (std::size_t i = 0; i < mv->items.size(); ++i) {
+          const std::string key = "world.moved[" + std::to_string(i) + "]";
+          MappingReader m(mv->items[i], key, diag);
+          const std::int64_t k = m.required_int("furniture");
+          const auto by = m.required_doubles("by", 2);
+          m.report_unknown_keys();
+          if (k < 0 || k >= static_cast<std::int64_t>(sc.world.furniture.size())) {
+            diag.errors.push_back(key + ".furniture: " + std::to_string(k) +
+                                  " is not an index of world.furniture (" +
+                                  std::to_string(sc.world.furniture.size()) + " boxes)");
+          } else if (by.size() == 2) {
+            Vec3& d = sc.world.furniture[static_cast<std::size_t>(k)].moved_by;
+            d = d + Vec3{by[0], by[1], 0.0};
+          }
         }
       }
     }
@@ -153,6 +195,7 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
     auto& l = sc.landmarks;
     l.on_walls = read_int(m, "on_walls", l.on_walls);
     l.on_furniture = read_int(m, "on_furniture", l.on_furniture);
+    l.on_interior_walls = read_int(m, "on_interior_walls", l.on_interior_walls);
     l.posts = read_int(m, "posts", l.posts);
     l.min_height = m.optional_double("min_height", l.min_height);
     l.max_height = m.optional_double("max_height", l.max_height);
@@ -194,6 +237,21 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
         }
       }
     }
+    if (const Node* wp = m.node("waypoints"); wp != nullptr) {
+      if (!wp->is_sequence()) {
+        diag.errors.push_back(wp->location.str() + ": path.waypoints: expected a sequence");
+      } else {
+        for (std::size_t i = 0; i < wp->items.size(); ++i) {
+          auto xy = readers::yaml::as_doubles(wp->items[i],
+                                              "path.waypoints[" + std::to_string(i) + "]", 2);
+          if (!xy.ok()) {
+            diag.errors.push_back(xy.error());
+          } else {
+            p.waypoints.push_back({(*xy)[0], (*xy)[1]});
+          }
+        }
+      }
+    }
     p.min_speed = m.optional_double("min_speed", p.min_speed);
     p.max_speed = m.optional_double("max_speed", p.max_speed);
     p.min_run = m.optional_double("min_run", p.min_run);
@@ -207,8 +265,9 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
     p.kidnap_skip_s = m.optional_double("kidnap_skip_s", p.kidnap_skip_s);
     p.lift_duration_s = m.optional_double("lift_duration_s", p.lift_duration_s);
     m.report_unknown_keys();
-    if (p.type != "boustrophedon" && p.type != "wander") {
-      diag.errors.push_back("path.type: expected boustrophedon or wander, got \"" + p.type + "\"");
+    if (p.type != "boustrophedon" && p.type != "wander" && p.type != "waypoints") {
+      diag.errors.push_back("path.type: expected boustrophedon, wander or waypoints, got \"" +
+                            p.type + "\"");
     }
   }
   {
@@ -216,6 +275,7 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
     sc.robot.wheel_base = m.optional_double("wheel_base", sc.robot.wheel_base);
     sc.robot.ticks_per_meter = m.optional_double("ticks_per_meter", sc.robot.ticks_per_meter);
     sc.robot.initial_ticks = m.optional_int("initial_ticks", sc.robot.initial_ticks);
+    sc.robot.radius = m.optional_double("radius", sc.robot.radius);
     m.report_unknown_keys();
   }
   {
@@ -323,7 +383,12 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
       sc.camera.height > 4096) {
     diag.errors.push_back("camera.width/height: out of range");
   }
-  if (sc.path.type == "boustrophedon") positive(sc.path.speed, "path.speed");
+  if (sc.path.type == "boustrophedon" || sc.path.type == "waypoints") {
+    positive(sc.path.speed, "path.speed");
+  }
+  if (sc.path.type == "waypoints") {
+    for (std::string& e : waypoint_path_errors(sc)) diag.errors.push_back(std::move(e));
+  }
   if (sc.path.type == "wander") {
     positive(sc.duration_s, "duration_s (a wander path needs it)");
     positive(sc.path.min_speed, "path.min_speed");
@@ -378,6 +443,8 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
   within(sc.landmarks.on_walls, 0.0, 100000.0, "landmarks.on_walls");
   within(sc.landmarks.on_furniture, 0.0, 100000.0, "landmarks.on_furniture");
   within(sc.landmarks.posts, 0.0, 100000.0, "landmarks.posts");
+  within(sc.landmarks.on_interior_walls, 0.0, 100000.0, "landmarks.on_interior_walls");
+  within(sc.robot.radius, 0.0, 2.0, "robot.radius");
   within(sc.person.points, 0.0, 100000.0, "person.points");
   within(sc.landmarks.min_height, 0.0, sc.landmarks.max_height, "landmarks.min_height");
   within(sc.path.repeats, 1.0, 1000.0, "path.repeats");

@@ -111,7 +111,7 @@ std::vector<Visible> visible_landmarks(const Scenario::Camera& c, const World& w
 readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::string& out_dir,
                                             const std::function<void(double)>& progress) {
   using R = readers::Result<SimulationSummary>;
-  Random world_rng(sc.seed, stream::kWorld);
+  Random world_rng(sc.world_seed(), stream::kWorld);
   Random path_rng(sc.seed, stream::kPath);
   const World world(sc, world_rng);
   const PathPlan plan = plan_path(sc, path_rng);

@@ -67,6 +67,24 @@ std::vector<Primitive> boustrophedon(const Scenario& sc, PlanarPose& start) {
   return out;
 }
 
+// From the first waypoint (the dock), facing the second, through the others in turn.
+std::vector<Primitive> waypoints(const Scenario& sc, PlanarPose& start) {
+  const auto& p = sc.path;
+  std::vector<Primitive> out;
+  if (p.waypoints.empty()) return out;
+  const auto& w0 = p.waypoints.front();
+  start = PlanarPose{w0[0], w0[1], 0.0};
+  for (const auto& w : p.waypoints) {
+    if (std::hypot(w[0] - w0[0], w[1] - w0[1]) > 1e-9) {
+      start.yaw = std::atan2(w[1] - w0[1], w[0] - w0[0]);
+      break;
+    }
+  }
+  PlanarPose pose = start;
+  for (const auto& w : p.waypoints) drive_to(out, pose, w[0], w[1], p.speed, p.turn_rate);
+  return out;
+}
+
 // Distance from (x, y) along heading `yaw` to the border of the rectangle [lo, hi].
 double distance_to_border(double x, double y, double yaw, double lox, double loy, double hix,
                           double hiy) {
@@ -241,8 +259,13 @@ Pose3 Trajectory::body_pose(const TrueState& s) {
 
 PathPlan plan_path(const Scenario& sc, Random& rng) {
   PathPlan plan;
-  plan.primitives =
-      sc.path.type == "wander" ? wander(sc, rng, plan.start) : boustrophedon(sc, plan.start);
+  if (sc.path.type == "wander") {
+    plan.primitives = wander(sc, rng, plan.start);
+  } else if (sc.path.type == "waypoints") {
+    plan.primitives = waypoints(sc, plan.start);
+  } else {
+    plan.primitives = boustrophedon(sc, plan.start);
+  }
   auto& prims = plan.primitives;
   if (sc.path.kidnap_at_s > 0.0 && sc.path.kidnap_skip_s > 0.0) {
     const PlanarPose from = pose_at(prims, plan.start, sc.path.kidnap_at_s);

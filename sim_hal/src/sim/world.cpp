@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 namespace cleanslam::sim_hal::sim {
 namespace {
@@ -34,11 +35,94 @@ bool segment_hits_box(Vec3 a, Vec3 b, const Box& box) {
   return true;
 }
 
+// True when one of `boxes` blocks the segment from a to b (b's own surface excluded).
+bool blocked(const std::vector<Box>& boxes, Vec3 a, Vec3 b) {
+  const Vec3 d = b - a;
+  const double len = norm(d);
+  if (len < 0.02) return false;
+  const Vec3 end = a + ((len - 0.01) / len) * d;  // stop short of b's own surface
+  for (const Box& box : boxes) {
+    if (segment_hits_box(a, end, box)) return true;
+  }
+  return false;
+}
+
+bool buried(const std::vector<Box>& boxes, Vec3 p) {
+  for (const Box& b : boxes) {
+    if (inside(b, p, 0.0)) return true;
+  }
+  return false;
+}
+
+bool in_world(Vec3 size, Vec3 p) {
+  return p.x > 0.0 && p.y > 0.0 && p.x < size.x && p.y < size.y;
+}
+
+// A point on the vertical faces of the interior walls, drawn by face area (heights within
+// [lo, hi]); none when no face reaches into that band.
+std::optional<Landmark> on_interior_wall(const std::vector<Box>& walls, double lo, double hi,
+                                         Random& rng) {
+  struct Face {
+    const Box* box;
+    int side;  // 0: -x, 1: +x, 2: -y, 3: +y
+    double area;
+  };
+  std::vector<Face> faces;
+  double total = 0.0;
+  for (const Box& b : walls) {
+    const double h = std::max(0.0, std::min(hi, b.max.z) - std::max(lo, b.min.z));
+    const double dx = b.max.x - b.min.x, dy = b.max.y - b.min.y;
+    for (int side = 0; side < 4; ++side) {
+      faces.push_back(Face{&b, side, (side < 2 ? dy : dx) * h});
+      total += faces.back().area;
+    }
+  }
+  if (!(total > 0.0)) return std::nullopt;
+  double pick = rng.uniform(0.0, total);
+  const Face* f = &faces.back();
+  for (const Face& face : faces) {
+    if (pick < face.area) {
+      f = &face;
+      break;
+    }
+    pick -= face.area;
+  }
+  const Box& b = *f->box;
+  const double u = rng.uniform(0.0, 1.0);
+  const double z = rng.uniform(std::max(lo, b.min.z), std::min(hi, b.max.z));
+  Landmark l;
+  switch (f->side) {
+    case 0:
+      l.position = {b.min.x, b.min.y + u * (b.max.y - b.min.y), z};
+      l.normal = {-1, 0, 0};
+      break;
+    case 1:
+      l.position = {b.max.x, b.min.y + u * (b.max.y - b.min.y), z};
+      l.normal = {1, 0, 0};
+      break;
+    case 2:
+      l.position = {b.min.x + u * (b.max.x - b.min.x), b.min.y, z};
+      l.normal = {0, -1, 0};
+      break;
+    default:
+      l.position = {b.min.x + u * (b.max.x - b.min.x), b.max.y, z};
+      l.normal = {0, 1, 0};
+      break;
+  }
+  return l;
+}
+
 }  // namespace
 
-World::World(const Scenario& sc, Random& rng) : boxes_(sc.world.furniture), person_(sc.person) {
+World::World(const Scenario& sc, Random& rng) : person_(sc.person) {
   const Vec3 size = sc.world.size;
   const auto& lm = sc.landmarks;
+  // Landmarks are placed with the furniture where the scenario lists it; moved_by comes after.
+  const std::vector<Box>& furniture = sc.world.furniture;
+  const std::vector<Box>& walls = sc.world.walls;
+  boxes_ = furniture;
+  boxes_.insert(boxes_.end(), walls.begin(), walls.end());
+  std::vector<int> on_box;  // per landmark: the furniture box it lies on, or -1
   std::int64_t next_id = 0;
   const Vec3 centre{0.5 * size.x, 0.5 * size.y, 0.5};
   const double perimeter = 2.0 * (size.x + size.y);
@@ -61,18 +145,23 @@ World::World(const Scenario& sc, Random& rng) : boxes_(sc.world.furniture), pers
       l.position = {0.0, size.y - s, z};
       l.normal = {1, 0, 0};
     }
-    // A wall point hidden behind furniture is never seen: place another.
-    if (occluded(centre, l.position)) continue;
+    // A wall point hidden behind furniture is never seen, nor one inside an interior wall that
+    // meets this wall: place another.
+    if (blocked(furniture, centre, l.position) || buried(walls, l.position + 0.05 * l.normal)) {
+      continue;
+    }
     l.id = next_id++;
     landmarks_.push_back(l);
+    on_box.push_back(-1);
     ++placed;
   }
   // Furniture: vertical faces that do not touch a wall, and the top.
-  if (!boxes_.empty()) {
+  if (!furniture.empty()) {
     placed = 0;
     attempts = 0;
     while (placed < lm.on_furniture && attempts++ < 100 * lm.on_furniture + 100) {
-      const Box& b = boxes_[rng.below(boxes_.size())];
+      const std::size_t k = rng.below(furniture.size());
+      const Box& b = furniture[k];
       const int face = static_cast<int>(rng.below(5));
       Landmark l;
       const double u = rng.uniform(0.0, 1.0), v = rng.uniform(0.0, 1.0);
@@ -100,12 +189,10 @@ World::World(const Scenario& sc, Random& rng) : boxes_(sc.world.furniture), pers
           break;
       }
       const Vec3 out = l.position + 0.05 * l.normal;
-      if (out.x <= 0.0 || out.y <= 0.0 || out.x >= size.x || out.y >= size.y) continue;
-      bool buried = false;
-      for (const Box& other : boxes_) buried = buried || inside(other, out, 0.0);
-      if (buried) continue;
+      if (!in_world(size, out) || buried(boxes_, out)) continue;
       l.id = next_id++;
       landmarks_.push_back(l);
+      on_box.push_back(static_cast<int>(k));
       ++placed;
     }
   }
@@ -116,6 +203,34 @@ World::World(const Scenario& sc, Random& rng) : boxes_(sc.world.furniture), pers
                   lm.post_height + rng.uniform(-lm.post_height_spread, lm.post_height_spread)};
     l.id = next_id++;
     landmarks_.push_back(l);
+    on_box.push_back(-1);
+  }
+  // Interior walls, both faces and the door jambs; not where a wall or a box covers the face.
+  if (!walls.empty()) {
+    placed = 0;
+    attempts = 0;
+    const double hi = std::min(lm.max_height, size.z);
+    while (placed < lm.on_interior_walls && attempts++ < 100 * lm.on_interior_walls + 100) {
+      const auto drawn = on_interior_wall(walls, lm.min_height, hi, rng);
+      if (!drawn) break;
+      Landmark l = *drawn;
+      const Vec3 out = l.position + 0.05 * l.normal;
+      if (!in_world(size, out) || buried(boxes_, out)) continue;
+      l.id = next_id++;
+      landmarks_.push_back(l);
+      on_box.push_back(-1);
+      ++placed;
+    }
+  }
+  // The objects moved since the landmarks were placed take theirs along.
+  for (std::size_t k = 0; k < furniture.size(); ++k) {
+    const Vec3 d = furniture[k].moved_by;
+    boxes_[k].min = boxes_[k].min + d;
+    boxes_[k].max = boxes_[k].max + d;
+    boxes_[k].moved_by = Vec3{};
+    for (std::size_t i = 0; i < landmarks_.size(); ++i) {
+      if (on_box[i] == static_cast<int>(k)) landmarks_[i].position = landmarks_[i].position + d;
+    }
   }
 }
 
@@ -142,14 +257,7 @@ std::vector<Landmark> World::person_points(double t) const {
 }
 
 bool World::occluded(Vec3 a, Vec3 b) const {
-  const Vec3 d = b - a;
-  const double len = norm(d);
-  if (len < 0.02) return false;
-  const Vec3 end = a + ((len - 0.01) / len) * d;  // stop short of b's own surface
-  for (const Box& box : boxes_) {
-    if (segment_hits_box(a, end, box)) return true;
-  }
-  return false;
+  return blocked(boxes_, a, b);
 }
 
 }  // namespace cleanslam::sim_hal::sim

@@ -10,11 +10,11 @@
 #include "cleanslam/sim_hal/sim/scenario.hpp"
 #include "cleanslam/sim_hal/sim/sim_math.hpp"
 
-// The rendered camera mode: ray casting of the room (walls, floor, ceiling, furniture boxes) with
-// procedural corner-rich textures or photographs, simple shading, exposure gain, vignetting, a
-// little blur, motion blur and pixel noise (read and shot), into 8-bit gray images of the
-// calibrated size. Four rays per pixel through the (distorted) pinhole, averaged (the pixel's
-// area); with motion blur at least one ray per pixel and pose of the exposure.
+// The rendered camera mode: ray casting of the room (walls, floor, ceiling, furniture boxes,
+// interior walls) with procedural corner-rich textures or photographs, simple shading, exposure
+// gain, vignetting, a little blur, motion blur and pixel noise (read and shot), into 8-bit gray
+// images of the calibrated size. Four rays per pixel through the (distorted) pinhole, averaged (the
+// pixel's area); with motion blur at least one ray per pixel and pose of the exposure.
 namespace cleanslam::sim_hal::sim {
 
 class Renderer {
@@ -36,7 +36,7 @@ class Renderer {
   [[nodiscard]] const std::string& textures_note() const { return textures_note_; }
 
   // Albedo in [0, 1] of surface `surface` at surface coordinates (a, b) in metres. Surfaces:
-  // 0 floor, 1 ceiling, 2..5 walls, 6.. furniture boxes.
+  // 0 floor, 1 ceiling, 2..5 walls, 6.. furniture boxes, then two per interior wall.
   [[nodiscard]] double albedo(int surface, double a, double b) const;
   // The surface seen by pixel (x, y), or -1.
   [[nodiscard]] int surface_at(const Pose3& world_camera, int x, int y) const;
@@ -65,7 +65,8 @@ class Renderer {
 
   Scenario::Camera camera_;
   Vec3 room_;
-  std::vector<Box> boxes_;
+  std::vector<Box> boxes_;  // furniture at its place, then the interior walls
+  int first_wall_surface_;  // surfaces from here on are interior walls (two per wall)
   std::uint64_t seed_;
   double noise_sigma_;
   double blur_;

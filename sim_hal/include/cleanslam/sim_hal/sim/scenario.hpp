@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,9 @@ namespace cleanslam::sim_hal::sim {
 struct Box {
   Vec3 min;
   Vec3 max;
+  // Furniture only (from world.moved): the box, with the landmarks on it, is moved by this after
+  // the landmarks are placed (the same home on another day, with a few objects moved).
+  Vec3 moved_by{};
 };
 
 struct StopSpec {
@@ -30,14 +34,22 @@ struct Scenario {
   double duration_s = 0.0;    // 0: until the path ends (wander paths need it)
 
   struct World {
-    Vec3 size{6.0, 5.0, 2.5};  // room (or arena) from (0,0,0) to size
-    std::vector<Box> furniture;
+    Vec3 size{6.0, 5.0, 2.5};    // room (or arena) from (0,0,0) to size
+    std::vector<Box> furniture;  // world.moved: [{furniture: index, by: [dx, dy]}] sets moved_by
+    // Interior walls (thin full-height boxes; doors are the gaps between them): they hide
+    // landmarks like furniture, render with the walls' textures, carry
+    // landmarks.on_interior_walls, and are not what hides an outer wall's point at placement.
+    std::vector<Box> walls;
+    // The stream that places the landmarks and textures; unset: `seed`. Two runs with one
+    // world.seed and different seeds see the same world with other noise.
+    std::optional<std::uint64_t> seed;
   } world;
 
   struct Landmarks {
     int on_walls = 90;
     int on_furniture = 30;
-    int posts = 0;  // free-standing points, visible from every side
+    int on_interior_walls = 0;  // spread over the vertical faces of world.walls by area
+    int posts = 0;              // free-standing points, visible from every side
     double min_height = 0.05;
     double max_height = 2.0;
     double post_height = 0.10;
@@ -56,7 +68,7 @@ struct Scenario {
   } person;
 
   struct Path {
-    std::string type = "boustrophedon";  // boustrophedon | wander
+    std::string type = "boustrophedon";  // boustrophedon | wander | waypoints
     double speed = 0.2;
     double turn_rate = 0.8;  // rad/s, turning in place
     double lane_spacing = 0.3;
@@ -64,6 +76,9 @@ struct Scenario {
     bool wall_follow = true;
     int repeats = 1;
     std::vector<StopSpec> stops;
+    // waypoints: straight runs between the points (x, y), turns in place at each; the robot starts
+    // at the first (the dock) facing the second
+    std::vector<std::array<double, 2>> waypoints;
     // wander
     double min_speed = 0.1;
     double max_speed = 0.2;
@@ -85,6 +100,7 @@ struct Scenario {
     double wheel_base = 0.235;  // nominal (written to sensors.yaml)
     double ticks_per_meter = 4000.0;
     std::int64_t initial_ticks = 0;
+    double radius = 0.2;  // footprint: a waypoint path keeps this far from walls and boxes
   } robot;
 
   struct Camera {
@@ -149,7 +165,13 @@ struct Scenario {
   struct GroundTruth {
     double rate_hz = 100.0;
   } groundtruth;
+
+  [[nodiscard]] std::uint64_t world_seed() const { return world.seed.value_or(seed); }
 };
+
+// The solid boxes of the world as the robot meets them: the furniture at its place (moved_by
+// applied), then the interior walls.
+std::vector<Box> solid_boxes(const Scenario::World& world);
 
 // Names of the built-in scenarios.
 std::vector<std::string> builtin_scenario_names();

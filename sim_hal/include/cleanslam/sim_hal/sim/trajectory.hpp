@@ -65,8 +65,8 @@ class Trajectory {
   double length_ = 0.0;
 };
 
-// Primitives of the scenario's path (boustrophedon or wander), with its stops and kidnapping, and
-// the start pose.
+// Primitives of the scenario's path (boustrophedon, wander or waypoints), with its stops and
+// kidnapping, and the start pose.
 struct PathPlan {
   std::vector<Primitive> primitives;
   PlanarPose start;
