@@ -73,8 +73,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     return 0;
   }
-  if (m.count < 0 || m.count > mf::kMaxMapLandmarks ||
-      bytes.size() != mf::file_size(m.count)) {
+  if (m.count < 0 || m.count > mf::kMaxMapLandmarks || bytes.size() != mf::file_size(m.count)) {
     fail("an accepted file's count does not match its size");
   }
   for (int i = 0; i < m.count; ++i) {

@@ -48,11 +48,17 @@ void put_le(Bytes& b, std::size_t at, std::uint64_t v, std::size_t n) {
   }
 }
 
-void reseal(Bytes& b) { put_le(b, b.size() - 4, log::crc32_update(0, b.data(), b.size() - 4), 4); }
+void reseal(Bytes& b) {
+  put_le(b, b.size() - 4, log::crc32_update(0, b.data(), b.size() - 4), 4);
+}
 
-void put_f64(Bytes& b, std::size_t at, double v) { put_le(b, at, std::bit_cast<std::uint64_t>(v), 8); }
+void put_f64(Bytes& b, std::size_t at, double v) {
+  put_le(b, at, std::bit_cast<std::uint64_t>(v), 8);
+}
 
-Decoded decode_bytes(const Bytes& b, MapSnapshot& out) { return decode(b.data(), b.size(), out); }
+Decoded decode_bytes(const Bytes& b, MapSnapshot& out) {
+  return decode(b.data(), b.size(), out);
+}
 
 constexpr std::size_t kPositionAt = kHeaderSize + 16;
 constexpr std::size_t kCovarianceAt = kPositionAt + 24;
@@ -170,8 +176,8 @@ TEST(MapFile, EachHeaderRefusalIsNamedWithItsOffset) {
 TEST(MapFile, NonFiniteValuesAreRefusedEvenWithAValidCrc) {
   const Bytes b = encoded(*sample_map(2));
   auto back = std::make_unique<MapSnapshot>();
-  for (const double bad : {std::numeric_limits<double>::quiet_NaN(),
-                           std::numeric_limits<double>::infinity()}) {
+  for (const double bad :
+       {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     Bytes p = b;
     put_f64(p, kPositionAt + 8, bad);
     reseal(p);

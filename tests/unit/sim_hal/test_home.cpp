@@ -20,6 +20,7 @@
 #include "cleanslam/sim_hal/sim/simulator.hpp"
 #include "cleanslam/sim_hal/sim/trajectory.hpp"
 #include "cleanslam/sim_hal/sim/world.hpp"
+#include "sim_test_files.hpp"
 
 namespace fs = std::filesystem;
 using namespace cleanslam;
@@ -27,27 +28,8 @@ namespace sim = cleanslam::sim_hal::sim;
 
 namespace {
 
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            (std::string("cleanslam_home_") + info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  [[nodiscard]] std::string sub(const std::string& s) const { return (path_ / s).string(); }
-
- private:
-  fs::path path_;
-};
-
-std::string slurp(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using sim_test::slurp;
+using sim_test::TempDir;
 
 sim::Scenario load(const std::string& name, const std::vector<std::string>& overrides = {}) {
   auto sc = sim::load_scenario(name, overrides);

@@ -16,6 +16,7 @@
 #include "cleanslam/sim_hal/sim/sim_math.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
 #include "cleanslam/sim_hal/sim/trajectory.hpp"
+#include "sim_test_files.hpp"
 
 namespace fs = std::filesystem;
 using namespace cleanslam;
@@ -23,28 +24,8 @@ namespace sim = cleanslam::sim_hal::sim;
 
 namespace {
 
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() / (std::string("cleanslam_sim_") + info->test_suite_name() +
-                                         "_" + info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  [[nodiscard]] std::string str() const { return path_.string(); }
-  [[nodiscard]] std::string sub(const std::string& s) const { return (path_ / s).string(); }
-
- private:
-  fs::path path_;
-};
-
-std::string slurp(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using sim_test::slurp;
+using sim_test::TempDir;
 
 // All noise sources off.
 const std::vector<std::string> kNoiseFree = {

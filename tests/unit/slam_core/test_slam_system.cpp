@@ -59,6 +59,15 @@ class SlamSystemTest : public ::testing::Test {
     return {r, r + n};
   }
 
+  std::vector<lf::UpdateRecord> image_frame(hal::TimeNs t,
+                                            const cleanslam::test::GrayImage& image) {
+    drive_to(t);
+    hal::CameraFrame f;
+    f.t_ns = t_;
+    f.image = image.view();
+    return run(f);
+  }
+
   std::vector<lf::UpdateRecord> features(hal::TimeNs t, std::vector<hal::FeatureObservation> f) {
     drive_to(t);
     hal::CameraFrame frame;
@@ -132,11 +141,7 @@ TEST_F(SlamSystemTest, ImageFramesLeaveTheMapDormantUntilItIsFoundAgain) {
   make(cs::MapConfig::SetDown::kRelocalize);
   const cleanslam::test::GrayImage image = cleanslam::test::render(cleanslam::test::Warp{});
   for (int k = 1; k <= 3; ++k) {
-    drive_to(500 * kMs * k);
-    hal::CameraFrame f;
-    f.t_ns = t_;
-    f.image = image.view();
-    run(f);
+    image_frame(500 * kMs * k, image);
   }
   const int mapped = system_->ekf().landmark_count();
   ASSERT_GT(mapped, 5);
@@ -148,11 +153,7 @@ TEST_F(SlamSystemTest, ImageFramesLeaveTheMapDormantUntilItIsFoundAgain) {
   EXPECT_EQ(system_->ekf().landmark_count(), mapped);
   // The same view again: the map is found in it, and searched again.
   for (int k = 4; k <= 5; ++k) {
-    drive_to(500 * kMs * k);
-    hal::CameraFrame f;
-    f.t_ns = t_;
-    f.image = image.view();
-    run(f);
+    image_frame(500 * kMs * k, image);
   }
   EXPECT_EQ(system_->relocalizations(), 1U);
   EXPECT_EQ(system_->map().dormant_count(), 0);
@@ -192,11 +193,7 @@ TEST_F(SlamSystemTest, AnImageMapSnapshotKeepsEachLandmarksFirstSightingPatch) {
   make(cs::MapConfig::SetDown::kNewMap);
   const cleanslam::test::GrayImage image = cleanslam::test::render(cleanslam::test::Warp{});
   for (int k = 1; k <= 3; ++k) {
-    drive_to(500 * kMs * k);
-    hal::CameraFrame f;
-    f.t_ns = t_;
-    f.image = image.view();
-    run(f);
+    image_frame(500 * kMs * k, image);
   }
   const cs::Ekf& ekf = system_->ekf();
   ASSERT_GT(ekf.landmark_count(), 5);
