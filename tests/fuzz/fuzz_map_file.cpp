@@ -2,7 +2,8 @@
 // is read:
 //  - bit 0 clear: the rest is the file, so magic, version, layout, count, size and CRC are
 //    exercised;
-//  - bit 0 set: a valid header whose count the next byte picks (0-3, or about the capacity), followed by
+//  - bit 0 set: a valid header whose count the next byte picks (0-3, or about the capacity),
+//  followed by
 //    the rest repeated to the records' size and sealed with a correct CRC, so damaged values reach
 //    the finiteness and covariance checks.
 // A file the decoder accepts holds only finite values and positive semi-definite covariances, and
