@@ -211,6 +211,17 @@ TEST(MapFile, AnIndefiniteCovarianceIsRefused) {
   EXPECT_EQ(d.refusal, Refusal::kNotCovariance);
   EXPECT_EQ(d.offset, kCovarianceAt);
 
+  // Leading minors all zero, yet indefinite: y and z correlated with both variances zero.
+  Bytes hidden = b;
+  for (std::size_t k = 0; k < 6; ++k) {
+    put_f64(hidden, kCovarianceAt + 8 * k, k == 4 ? 0.01 : 0.0);
+  }
+  reseal(hidden);
+  EXPECT_EQ(decode_bytes(hidden, *back).refusal, Refusal::kNotCovariance);
+  EXPECT_FALSE(covariance_ok({0.0, 0.0, 0.0, 0.0, 0.01, 0.0}));
+  EXPECT_FALSE(covariance_ok({0.01, 0.0, 0.02, 0.04, 0.0, 0.01}));  // x-z correlation above one
+  EXPECT_TRUE(covariance_ok({0.0, 0.0, 0.0, 0.0, 0.0, 0.0}));
+
   // Positive variances, but a correlation above one.
   Bytes correlated = b;
   put_f64(correlated, kCovarianceAt + 8, 0.5);

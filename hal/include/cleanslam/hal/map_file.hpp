@@ -18,9 +18,9 @@
 // File = header (64 bytes), `count` landmark records, CRC-32 of everything before it (u32).
 // Header = magic[8], version u32, header size u32, record size u32, count u32, flags u32,
 //          saved_at_ns i64, dock pose (x m, y m, yaw rad) f64 x 3, reserved u32.
-// Record = id i64, flags u32 (kHasPatch, kHasAnchor), reserved u32, position f64 x 3, covariance
-// f64 x 6
-//          (xx xy xz yy yz zz), first depth f64, anchor f64 x 3, patch f32 x kMapPatchSide^2.
+// Record = id i64, flags u32 (kHasPatch, kHasAnchor), reserved u32, position f64 x 3,
+//          covariance f64 x 6 (xx xy xz yy yz zz), first depth f64, anchor f64 x 3,
+//          patch f32 x kMapPatchSide^2.
 // Little-endian, doubles and floats as their IEEE-754 bits, like the log (log_format.hpp).
 namespace cleanslam::hal::map_file {
 
@@ -157,8 +157,9 @@ struct Decoded {
   std::uint32_t count = 0;
 };
 
-// A 3x3 covariance stored as its upper triangle is positive semi-definite: its leading minors and
-// determinant (Sylvester, with a tolerance for rounding at the diagonal's scale).
+// A 3x3 covariance stored as its upper triangle is positive semi-definite: every principal minor
+// is non-negative (the leading ones alone prove only definiteness), with a tolerance for rounding
+// at the diagonal's scale.
 [[nodiscard]] inline bool covariance_ok(const std::array<double, 6>& c) {
   const double xx = c[0];
   const double xy = c[1];
@@ -171,9 +172,12 @@ struct Decoded {
   if (!(xx >= -tol && yy >= -tol && zz >= -tol)) {
     return false;
   }
-  const double m2 = xx * yy - xy * xy;
-  const double det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
-  return m2 >= -tol * scale && det >= -tol * scale * scale;
+  const double m_xy = xx * yy - xy * xy;
+  const double m_xz = xx * zz - xz * xz;
+  const double m_yz = yy * zz - yz * yz;
+  const double det = xx * m_yz - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+  return m_xy >= -tol * scale && m_xz >= -tol * scale && m_yz >= -tol * scale &&
+         det >= -tol * scale * scale;
 }
 
 // Reads a whole file's bytes into `m`; `m` is left with count 0 unless the file is accepted.
