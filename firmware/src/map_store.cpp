@@ -56,8 +56,9 @@ ssize_t read_up_to(int fd, std::uint8_t* data, std::size_t capacity) {
   return static_cast<ssize_t>(got);
 }
 
-std::size_t kilobytes(std::size_t bytes) {
-  return (bytes + 512) / 1024;
+void print_saved(const char* program, const MapStore& store, const MapStore::Saved& saved) {
+  std::fprintf(stderr, "%s: map: saved %d landmarks to %s (%zu KB)\n", program, saved.landmarks,
+               store.path().c_str(), (saved.bytes + 512) / 1024);
 }
 
 }  // namespace
@@ -252,8 +253,7 @@ void PeriodicMapSave::run(const Loop& loop, hal::TimeNs now) {
   MapStore::Saved saved;
   std::string error;
   if (store_.save(loop.estimator(), now, saved, error)) {
-    std::fprintf(stderr, "%s: map: saved %d landmarks to %s (%zu KB)\n", program_, saved.landmarks,
-                 store_.path().c_str(), kilobytes(saved.bytes));
+    print_saved(program_, store_, saved);
   } else {
     std::fprintf(stderr, "%s: warning: map: %s\n", program_, error.c_str());
   }
@@ -273,8 +273,7 @@ bool save_at_end(MapStore& store, const Estimator& estimator, hal::TimeNs t_ns,
     std::fprintf(stderr, "%s: error: map: %s\n", program, error.c_str());
     return false;
   }
-  std::fprintf(stderr, "%s: map: saved %d landmarks to %s (%zu KB)\n", program, saved.landmarks,
-               store.path().c_str(), kilobytes(saved.bytes));
+  print_saved(program, store, saved);
   return true;
 }
 
