@@ -1,6 +1,7 @@
 #include "cleanslam/sim_hal/sim/scenario.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <sstream>
@@ -113,6 +114,27 @@ int read_int(MappingReader& r, const char* key, int fallback) {
 }
 
 }  // namespace
+
+bool segment_hits_box(Vec3 a, Vec3 b, const Box& box) {
+  double s0 = 0.0, s1 = 1.0;
+  const double ad[3] = {a.x, a.y, a.z};
+  const double dd[3] = {b.x - a.x, b.y - a.y, b.z - a.z};
+  const double lo[3] = {box.min.x, box.min.y, box.min.z};
+  const double hi[3] = {box.max.x, box.max.y, box.max.z};
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(dd[i]) < 1e-15) {
+      if (ad[i] < lo[i] || ad[i] > hi[i]) return false;
+      continue;
+    }
+    double t0 = (lo[i] - ad[i]) / dd[i];
+    double t1 = (hi[i] - ad[i]) / dd[i];
+    if (t0 > t1) std::swap(t0, t1);
+    s0 = std::max(s0, t0);
+    s1 = std::min(s1, t1);
+    if (s0 > s1) return false;
+  }
+  return true;
+}
 
 std::vector<Box> solid_boxes(const Scenario::World& world) {
   std::vector<Box> out;

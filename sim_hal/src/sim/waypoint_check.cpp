@@ -7,26 +7,11 @@
 namespace cleanslam::sim_hal::sim {
 namespace {
 
-// Slab test, in the floor plane, of the segment a + s (b - a), s in [0, 1], against the box's
-// footprint grown by `r` on every side.
+// The segment between two waypoints, on the floor, against the box grown by `r` on every side.
 bool segment_crosses_footprint(const std::array<double, 2>& a, const std::array<double, 2>& b,
                                const Box& box, double r) {
-  const double lo[2] = {box.min.x - r, box.min.y - r};
-  const double hi[2] = {box.max.x + r, box.max.y + r};
-  double s0 = 0.0, s1 = 1.0;
-  for (std::size_t i = 0; i < 2; ++i) {
-    const double d = b[i] - a[i];
-    if (std::abs(d) < 1e-15) {
-      if (a[i] <= lo[i] || a[i] >= hi[i]) return false;
-      continue;
-    }
-    double t0 = (lo[i] - a[i]) / d, t1 = (hi[i] - a[i]) / d;
-    if (t0 > t1) std::swap(t0, t1);
-    s0 = std::max(s0, t0);
-    s1 = std::min(s1, t1);
-    if (s0 >= s1) return false;
-  }
-  return true;
+  const Box grown{box.min - Vec3{r, r, r}, box.max + Vec3{r, r, r}};
+  return segment_hits_box(Vec3{a[0], a[1], box.min.z}, Vec3{b[0], b[1], box.min.z}, grown);
 }
 
 std::string point_text(const std::array<double, 2>& p) {

@@ -13,28 +13,6 @@ bool inside(const Box& b, Vec3 p, double eps) {
          p.z > b.min.z - eps && p.z < b.max.z + eps;
 }
 
-// Slab test of the segment a + s (b - a), s in [0, 1], against a box.
-bool segment_hits_box(Vec3 a, Vec3 b, const Box& box) {
-  double s0 = 0.0, s1 = 1.0;
-  const double ad[3] = {a.x, a.y, a.z};
-  const double dd[3] = {b.x - a.x, b.y - a.y, b.z - a.z};
-  const double lo[3] = {box.min.x, box.min.y, box.min.z};
-  const double hi[3] = {box.max.x, box.max.y, box.max.z};
-  for (int i = 0; i < 3; ++i) {
-    if (std::abs(dd[i]) < 1e-15) {
-      if (ad[i] < lo[i] || ad[i] > hi[i]) return false;
-      continue;
-    }
-    double t0 = (lo[i] - ad[i]) / dd[i];
-    double t1 = (hi[i] - ad[i]) / dd[i];
-    if (t0 > t1) std::swap(t0, t1);
-    s0 = std::max(s0, t0);
-    s1 = std::min(s1, t1);
-    if (s0 > s1) return false;
-  }
-  return true;
-}
-
 // True when one of `boxes` blocks the segment from a to b (b's own surface excluded).
 bool blocked(const std::vector<Box>& boxes, Vec3 a, Vec3 b) {
   const Vec3 d = b - a;

@@ -173,6 +173,9 @@ struct Scenario {
 // applied), then the interior walls.
 std::vector<Box> solid_boxes(const Scenario::World& world);
 
+// Slab test of the segment a + s (b - a), s in [0, 1], against a box (touching counts).
+[[nodiscard]] bool segment_hits_box(Vec3 a, Vec3 b, const Box& box);
+
 // Names of the built-in scenarios.
 std::vector<std::string> builtin_scenario_names();
 // The YAML text of a built-in scenario, or an empty string.
