@@ -110,9 +110,9 @@ TEST(SimTrajectory, ArcIntegrationMatchesSmallSteps) {
 
 TEST(SimScenario, BuiltInsLoadAndDescribeTheRequiredWorlds) {
   const auto names = sim::builtin_scenario_names();
-  for (const char* n : {"default-room", "corridor", "poor-texture", "person-walking", "kidnapped",
-                        "kidnapped-across", "standstills", "sparse-poor-odometry",
-                        "realistic-camera"}) {
+  for (const char* n :
+       {"default-room", "corridor", "poor-texture", "person-walking", "kidnapped",
+        "kidnapped-across", "standstills", "sparse-poor-odometry", "realistic-camera"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
     auto sc = sim::load_scenario(n);
     ASSERT_TRUE(sc.ok()) << n << ": " << sc.error();
