@@ -6,9 +6,28 @@
 namespace cleanslam::slam_core {
 
 namespace {
-constexpr std::array<double, 3> kScales{0.75, 1.0, 1.33};
+// Patch scales, about a factor 1.25 apart over make_template's range.
+constexpr std::array<double, 8> kScaleSteps{0.6, 0.75, 0.95, 1.2, 1.5, 1.9, 2.4, 3.0};
+// A corner whose distance the elevation does not give: the scales about 1.
+constexpr std::array<int, 3> kUnknownDistanceSteps{1, 2, 3};
 constexpr double kMinPairM = 0.3;
 constexpr double kMaxRangeM = 15.0;
+
+int nearest_scale_step(double scale) {
+  int best = 0;
+  for (int k = 1; k < static_cast<int>(kScaleSteps.size()); ++k) {
+    if (std::abs(std::log(scale / kScaleSteps[static_cast<std::size_t>(k)])) <
+        std::abs(std::log(scale / kScaleSteps[static_cast<std::size_t>(best)]))) {
+      best = k;
+    }
+  }
+  return best;
+}
+
+bool tried_without_distance(int step) {
+  return std::find(kUnknownDistanceSteps.begin(), kUnknownDistanceSteps.end(), step) !=
+         kUnknownDistanceSteps.end();
+}
 }  // namespace
 
 Relocalizer::Relocalizer(const CameraModel& camera, const RelocalizerConfig& config)
@@ -18,9 +37,25 @@ void Relocalizer::begin(const hal::GrayImageView& image, const frontend::Corner*
                         int corner_count, const Vector6d& camera_pose) {
   image_ = image;
   corners_ = corners;
-  corner_count_ = corner_count;
+  corner_count_ = std::clamp(corner_count, 0, hal::kMaxCorners);
   pose_ = camera_pose;
   R_rp_ = rotation_zyx(camera_pose(3), camera_pose(4), 0.0);
+  for (int i = 0; i < corner_count_; ++i) {
+    LevelRay& ray = rays_[static_cast<std::size_t>(i)];
+    ray.valid = false;
+    Eigen::Vector2d n;
+    if (!camera_.undistort(corners_[i].x, corners_[i].y, n)) {
+      continue;
+    }
+    const Eigen::Vector3d d = R_rp_ * CameraModel::ray(n);
+    const double h = std::hypot(d.x(), d.y());
+    if (!(h > 0.0)) {
+      continue;
+    }
+    ray.direction = Eigen::Vector2d(d.x(), d.y()) / h;
+    ray.tan_elevation = d.z() / h;
+    ray.valid = true;
+  }
   candidate_count_ = 0;
   row_ = 0;
   best_score_ = 0;
@@ -55,28 +90,32 @@ float Relocalizer::ncc_at(const frontend::PatchTemplate& tmpl, double u, double 
   return cross / std::sqrt(var * tmpl.sum_sq);
 }
 
-bool Relocalizer::level_position(double u_px, double v_px, const Eigen::Vector3d& landmark,
+bool Relocalizer::level_position(int corner, const Eigen::Vector3d& landmark,
                                  Eigen::Vector2d& q) const {
-  Eigen::Vector2d n;
-  if (!camera_.undistort(u_px, v_px, n)) {
+  const LevelRay& ray = rays_[static_cast<std::size_t>(corner)];
+  if (!ray.valid || !(std::abs(ray.tan_elevation) >= config_.min_elevation_tan)) {
     return false;
   }
-  const Eigen::Vector3d d = R_rp_ * CameraModel::ray(n);
-  const double h = std::hypot(d.x(), d.y());
-  if (!(h > 0.0)) {
-    return false;
-  }
-  const double tan_e = d.z() / h;
-  const double dz = landmark.z() - pose_(2);
-  if (!(std::abs(tan_e) >= config_.min_elevation_tan)) {
-    return false;
-  }
-  const double dist = dz / tan_e;
+  const double dist = (landmark.z() - pose_(2)) / ray.tan_elevation;
   if (!(dist > 0.0 && dist < kMaxRangeM)) {
     return false;
   }
-  q = Eigen::Vector2d(d.x(), d.y()) * (dist / h);
+  q = ray.direction * dist;
   return true;
+}
+
+void Relocalizer::assign_scale_steps(const Eigen::Vector3d& landmark,
+                                     const frontend::LandmarkPatch& patch) {
+  const Eigen::Vector3d anchor(patch.anchor[0], patch.anchor[1], patch.anchor[2]);
+  const double first_distance = patch.has_anchor ? (landmark - anchor).norm() : patch.first_depth_m;
+  const double dz = landmark.z() - pose_(2);
+  for (int i = 0; i < corner_count_; ++i) {
+    Eigen::Vector2d q;
+    scale_step_[static_cast<std::size_t>(i)] =
+        level_position(i, landmark, q) ? nearest_scale_step(frontend::predicted_patch_scale(
+                                             first_distance, std::sqrt(q.squaredNorm() + dz * dz)))
+                                       : -1;
+  }
 }
 
 void Relocalizer::consider(const Candidate& c) {
@@ -94,17 +133,28 @@ void Relocalizer::consider(const Candidate& c) {
 
 void Relocalizer::add_landmark(int slot, const Eigen::Vector3d& position,
                                const frontend::LandmarkPatch& patch) {
-  // The best corners of this landmark, at any of the scales.
+  // The best corners of this landmark, each matched at the scale its distance implies.
   constexpr int kMaxPerLandmark = 8;
   std::array<int, kMaxPerLandmark> best_corner{};
   std::array<float, kMaxPerLandmark> best_ncc{};
   const int keep = std::min(config_.candidates_per_landmark, kMaxPerLandmark);
   int n = 0;
-  for (const double scale : kScales) {
-    if (!frontend::make_template(patch, scale, 3.0F, template_)) {
-      continue;
-    }
+  assign_scale_steps(position, patch);
+  for (int step = 0; step < static_cast<int>(kScaleSteps.size()); ++step) {
+    const bool without_distance = tried_without_distance(step);
+    bool made = false;
     for (int i = 0; i < corner_count_; ++i) {
+      const int at_step = scale_step_[static_cast<std::size_t>(i)];
+      if (at_step != step && !(at_step < 0 && without_distance)) {
+        continue;
+      }
+      if (!made) {
+        made = true;
+        if (!frontend::make_template(patch, kScaleSteps[static_cast<std::size_t>(step)], 3.0F,
+                                     template_)) {
+          break;
+        }
+      }
       const float ncc = ncc_at(template_, corners_[i].x, corners_[i].y);
       if (!(ncc >= config_.min_ncc)) {
         continue;
@@ -131,11 +181,11 @@ void Relocalizer::add_landmark(int slot, const Eigen::Vector3d& position,
     Candidate c;
     c.slot = slot;
     c.landmark = position;
-    const frontend::Corner& corner = corners_[best_corner[static_cast<std::size_t>(k)]];
-    c.u_px = corner.x;
-    c.v_px = corner.y;
+    const int i = best_corner[static_cast<std::size_t>(k)];
+    c.u_px = corners_[i].x;
+    c.v_px = corners_[i].y;
     c.ncc = best_ncc[static_cast<std::size_t>(k)];
-    c.has_q = level_position(c.u_px, c.v_px, position, c.q);
+    c.has_q = level_position(i, position, c.q);
     consider(c);
   }
 }

@@ -16,7 +16,9 @@
 namespace cleanslam::slam_core {
 
 // Relocalization after the robot was carried further than the filter's pose covariance says:
-// the earlier map's landmarks are looked for among the frame's corners by appearance alone, and
+// the earlier map's landmarks are looked for among the frame's corners by appearance (each
+// first-sighting patch at the scale the corner's elevation implies: the landmark's height is
+// mapped, so the elevation gives its distance from the camera), and
 // planar camera poses (x, y, yaw; height, roll and pitch are the filter's) are hypothesized from
 // pairs of candidate sightings (each candidate's bearing and elevation give its horizontal
 // position from the camera) and scored by the landmarks that project onto their candidates.
@@ -49,10 +51,19 @@ class Relocalizer {
     float ncc = 0.0F;
   };
   static constexpr int kMaxCandidates = 96;
+  // A corner's ray levelled by the filter's roll and pitch: its horizontal direction and the
+  // tangent of its elevation.
+  struct LevelRay {
+    Eigen::Vector2d direction = Eigen::Vector2d::Zero();
+    double tan_elevation = 0.0;
+    bool valid = false;
+  };
 
   [[nodiscard]] float ncc_at(const frontend::PatchTemplate& tmpl, double u, double v) const;
-  bool level_position(double u_px, double v_px, const Eigen::Vector3d& landmark,
-                      Eigen::Vector2d& q) const;
+  bool level_position(int corner, const Eigen::Vector3d& landmark, Eigen::Vector2d& q) const;
+  // Which of kScaleSteps the landmark's patch takes at each corner (-1: the corner's distance is
+  // not known, kUnknownDistanceSteps are tried).
+  void assign_scale_steps(const Eigen::Vector3d& landmark, const frontend::LandmarkPatch& patch);
   int score(double x, double y, double yaw);
   // Landmarks the last hypothesis shares with the best one.
   [[nodiscard]] int shared_with_best() const;
@@ -65,6 +76,8 @@ class Relocalizer {
   int corner_count_ = 0;
   Vector6d pose_ = Vector6d::Zero();
   Eigen::Matrix3d R_rp_ = Eigen::Matrix3d::Identity();  // roll and pitch of the camera
+  std::array<LevelRay, hal::kMaxCorners> rays_{};
+  std::array<int, hal::kMaxCorners> scale_step_{};
   std::array<Candidate, kMaxCandidates> candidates_{};
   int candidate_count_ = 0;
   std::array<bool, hal::kMaxLandmarks> counted_{};  // the last hypothesis's inliers
