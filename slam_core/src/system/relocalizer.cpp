@@ -57,6 +57,9 @@ void Relocalizer::begin(const hal::GrayImageView& image, const frontend::Corner*
     ray.valid = true;
   }
   candidate_count_ = 0;
+  added_count_ = 0;
+  checked_ = 0;
+  confirmed_ = 0;
   row_ = 0;
   best_score_ = 0;
   second_score_ = 0;
@@ -133,6 +136,9 @@ void Relocalizer::consider(const Candidate& c) {
 
 void Relocalizer::add_landmark(int slot, const Eigen::Vector3d& position,
                                const frontend::LandmarkPatch& patch) {
+  if (added_count_ < hal::kMaxLandmarks) {
+    added_[static_cast<std::size_t>(added_count_++)] = Added{slot, position, &patch};
+  }
   // The best corners of this landmark, each matched at the scale its distance implies.
   constexpr int kMaxPerLandmark = 8;
   std::array<int, kMaxPerLandmark> best_corner{};
@@ -264,11 +270,56 @@ bool Relocalizer::search_step() {
       }
     }
   }
-  return row_ >= candidate_count_;
+  if (row_ < candidate_count_) {
+    return false;
+  }
+  check_best();
+  return true;
+}
+
+void Relocalizer::check_best() {
+  checked_ = 0;
+  confirmed_ = 0;
+  if (best_score_ == 0) {
+    return;
+  }
+  const Eigen::Matrix3d R = rotation_zyx(best_(3), best_(4), best_(5));
+  const Eigen::Vector3d t = best_.head<3>();
+  const int r = static_cast<int>(std::ceil(config_.inlier_px));
+  for (int k = 0; k < added_count_ && checked_ < kMaxChecked; ++k) {
+    const Added& a = added_[static_cast<std::size_t>(k)];
+    if (best_inliers_[static_cast<std::size_t>(a.slot)]) {
+      continue;
+    }
+    const Eigen::Vector3d p_c = R.transpose() * (a.position - t);
+    Eigen::Vector2d px;
+    if (!camera_.project(p_c, px, nullptr) || px.x() < frontend::kPatchRadius + r ||
+        px.y() < frontend::kPatchRadius + r ||
+        px.x() > image_.width - 1 - frontend::kPatchRadius - r ||
+        px.y() > image_.height - 1 - frontend::kPatchRadius - r) {
+      continue;
+    }
+    const Eigen::Vector3d anchor(a.patch->anchor[0], a.patch->anchor[1], a.patch->anchor[2]);
+    const double first =
+        a.patch->has_anchor ? (a.position - anchor).norm() : a.patch->first_depth_m;
+    if (!frontend::make_template(*a.patch, frontend::predicted_patch_scale(first, p_c.norm()), 3.0F,
+                                 template_)) {
+      continue;
+    }
+    ++checked_;
+    bool seen = false;
+    for (int dy = -r; dy <= r && !seen; ++dy) {
+      for (int dx = -r; dx <= r && !seen; ++dx) {
+        seen = ncc_at(template_, px.x() + dx, px.y() + dy) >= config_.min_ncc;
+      }
+    }
+    confirmed_ += seen ? 1 : 0;
+  }
 }
 
 bool Relocalizer::found(Vector6d& camera_pose) const {
-  if (best_score_ < config_.min_inliers || best_score_ < second_score_ + config_.min_margin) {
+  if (best_score_ < config_.min_inliers || best_score_ < second_score_ + config_.min_margin ||
+      static_cast<double>(confirmed_) < config_.min_checked_fraction * checked_) {
     return false;
   }
   camera_pose = best_;

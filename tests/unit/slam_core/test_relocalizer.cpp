@@ -29,6 +29,7 @@ struct Scene {
   std::vector<int> slots;
   std::vector<Eigen::Vector3d> landmarks;
   std::vector<fe::LandmarkPatch> patches;
+  std::vector<Eigen::Vector2d> pixels;  // in the frame
 
   // Landmarks on the frame's corners at depths from 2 m to 4 m, seen from `truth`. With
   // `closer` != 1 each was first seen from 1 / closer times its distance (its patch is taken from
@@ -58,6 +59,7 @@ struct Scene {
         patch.has_anchor = true;
       }
       slots.push_back(static_cast<int>(slots.size()) * 3);
+      pixels.emplace_back(c.x, c.y);
       landmarks.push_back(landmark);
       patches.push_back(patch);
     }
@@ -112,6 +114,30 @@ TEST(Relocalizer, FindsLandmarksFirstSeenFromMuchFarther) {
   EXPECT_NEAR(found(0), scene.truth(0), 0.05);
   EXPECT_NEAR(found(1), scene.truth(1), 0.05);
   EXPECT_NEAR(cs::wrap_angle(found(5) - scene.truth(5)), 0.0, 0.02);
+}
+
+// The first eight landmarks look as they should and lie where they should; the others lie where
+// they should but their patches are of another texture: the pose the eight support puts the
+// others in view, where their patches do not match, so it is not taken.
+TEST(Relocalizer, APoseWhoseOtherLandmarksDoNotLookAsMappedIsNotTaken) {
+  Scene scene;
+  ASSERT_GE(scene.slots.size(), 16U);
+  const cleanslam::test::GrayImage other = cleanslam::test::render(
+      cleanslam::test::Warp{}, 320, 240, 1.0, 0.0, cleanslam::test::TextureOptions{.seed = 5});
+  for (std::size_t i = 8; i < scene.slots.size(); ++i) {
+    ASSERT_TRUE(fe::capture_patch(other.view(), scene.pixels[i].x(), scene.pixels[i].y(), 3.0,
+                                  scene.patches[i]));
+  }
+  cs::Relocalizer r(scene.camera);
+  cs::Vector6d found;
+  EXPECT_FALSE(scene.relocalize(r, found));
+  EXPECT_GE(r.inliers(), 6);  // enough without the check
+  EXPECT_GE(r.checked(), 8);
+  EXPECT_LT(r.confirmed(), r.checked() / 5);
+  // With the patches as mapped the pose is taken.
+  const Scene intact;
+  cs::Relocalizer r2(intact.camera);
+  EXPECT_TRUE(intact.relocalize(r2, found));
 }
 
 TEST(Relocalizer, AMapThatDoesNotFitTheViewIsNotTakenForIt) {

@@ -20,6 +20,11 @@ struct RelocalizerConfig {
   // best pose whose inliers are mostly other landmarks (an ambiguous view).
   int min_inliers = 6;
   int min_margin = 2;
+  // ... and when at least this fraction of the other landmarks it puts in view match their
+  // first-sighting patch (at the scale their distance implies) within inlier_px of where they
+  // project: at the right pose most do, at a coincidental one their projections fall on unrelated
+  // texture.
+  double min_checked_fraction = 0.2;
   // Bounded work per step: landmarks matched, candidate rows of the pose search.
   int landmarks_per_step = 4;
   int rows_per_step = 2;
