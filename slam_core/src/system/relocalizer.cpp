@@ -24,6 +24,23 @@ int nearest_scale_step(double scale) {
   return best;
 }
 
+// P(X >= k) for X ~ Binomial(n, p).
+double binomial_tail(int n, int k, double p) {
+  if (k <= 0) {
+    return 1.0;
+  }
+  if (!(p < 1.0)) {
+    return k <= n ? 1.0 : 0.0;
+  }
+  double term = std::pow(1.0 - p, n);  // P(X = 0)
+  double below = 0.0;
+  for (int i = 0; i < k && i <= n; ++i) {
+    below += term;
+    term *= static_cast<double>(n - i) / static_cast<double>(i + 1) * p / (1.0 - p);
+  }
+  return std::clamp(1.0 - below, 0.0, 1.0);
+}
+
 bool tried_without_distance(int step) {
   return std::find(kUnknownDistanceSteps.begin(), kUnknownDistanceSteps.end(), step) !=
          kUnknownDistanceSteps.end();
@@ -318,8 +335,11 @@ void Relocalizer::check_best() {
 }
 
 bool Relocalizer::found(Vector6d& camera_pose) const {
+  const bool checked = checked_ > 0 ? binomial_tail(checked_, confirmed_, config_.chance_match) <=
+                                          config_.max_chance_probability
+                                    : best_score_ >= config_.min_inliers_unchecked;
   if (best_score_ < config_.min_inliers || best_score_ < second_score_ + config_.min_margin ||
-      static_cast<double>(confirmed_) < config_.min_checked_fraction * checked_) {
+      !checked) {
     return false;
   }
   camera_pose = best_;

@@ -63,6 +63,36 @@ struct Scene {
       landmarks.push_back(landmark);
       patches.push_back(patch);
     }
+    // Landmarks away from every corner: never candidates, but where a pose puts them in view
+    // they check it.
+    for (int gy = 40; gy < 240 - 30; gy += 30) {
+      for (int gx = 40; gx < 320 - 30; gx += 30) {
+        bool far = true;
+        for (int i = 0; i < detector.corner_count(); ++i) {
+          far = far && std::hypot(detector.corners()[i].x - gx, detector.corners()[i].y - gy) > 8.0;
+        }
+        Eigen::Vector2d n;
+        fe::LandmarkPatch patch;
+        double u = 0.0;
+        double v = 0.0;
+        zoom.apply(gx, gy, u, v);
+        if (!far || !camera.undistort(gx, gy, n) ||
+            !fe::capture_patch(first.view(), u, v, 3.0 / closer, patch)) {
+          continue;
+        }
+        const double depth = 2.0 + 0.1 * static_cast<double>(slots.size() % 21);
+        const Eigen::Vector3d landmark = truth.head<3>() + R * cs::CameraModel::ray(n) * depth;
+        if (closer != 1.0) {
+          const Eigen::Vector3d anchor = landmark - (landmark - truth.head<3>()) / closer;
+          patch.anchor = {anchor.x(), anchor.y(), anchor.z()};
+          patch.has_anchor = true;
+        }
+        slots.push_back(static_cast<int>(slots.size()) * 3);
+        pixels.emplace_back(gx, gy);
+        landmarks.push_back(landmark);
+        patches.push_back(patch);
+      }
+    }
   }
 
   // The search from a filter pose off by 1.2 m and 70 degrees.
@@ -128,16 +158,20 @@ TEST(Relocalizer, APoseWhoseOtherLandmarksDoNotLookAsMappedIsNotTaken) {
     ASSERT_TRUE(fe::capture_patch(other.view(), scene.pixels[i].x(), scene.pixels[i].y(), 3.0,
                                   scene.patches[i]));
   }
-  cs::Relocalizer r(scene.camera);
+  cs::RelocalizerConfig config;
+  config.min_inliers = 6;
+  cs::Relocalizer r(scene.camera, config);
   cs::Vector6d found;
   EXPECT_FALSE(scene.relocalize(r, found));
   EXPECT_GE(r.inliers(), 6);  // enough without the check
   EXPECT_GE(r.checked(), 8);
   EXPECT_LT(r.confirmed(), r.checked() / 5);
-  // With the patches as mapped the pose is taken.
+  // With the patches as mapped the pose is taken, and the other landmarks confirm it.
   const Scene intact;
-  cs::Relocalizer r2(intact.camera);
+  cs::Relocalizer r2(intact.camera, config);
   EXPECT_TRUE(intact.relocalize(r2, found));
+  EXPECT_GE(r2.checked(), 8);
+  EXPECT_GT(r2.confirmed(), r2.checked() / 2);
 }
 
 TEST(Relocalizer, AMapThatDoesNotFitTheViewIsNotTakenForIt) {
