@@ -71,9 +71,14 @@ bool SlamSystem::relocalize_step() {
 }
 
 // The pose found: the landmarks mapped since the set-down (made from the wrong pose) go, the
-// dormant ones are searched again.
+// dormant ones are searched again. What the filter learnt of x, y and yaw since the set-down came
+// from those landmarks, in the wrong frame: the pose found is taken as uncertain as a set-down.
 void SlamSystem::relocate(const Vector6d& camera_pose) {
-  if (!ekf_.relocate(camera_pose)) {
+  const double s_xy = config_.map.relocalize_std_m;
+  const double s_yaw = config_.map.relocalize_std_yaw_deg * std::numbers::pi / 180.0;
+  const Eigen::Matrix3d planar_cov =
+      Eigen::Vector3d(s_xy * s_xy, s_xy * s_xy, s_yaw * s_yaw).asDiagonal();
+  if (!ekf_.relocate(camera_pose, planar_cov)) {
     return;
   }
   for (int s = 0; s < hal::kMaxLandmarks; ++s) {

@@ -6,9 +6,45 @@
 namespace cleanslam::slam_core {
 
 namespace {
-constexpr std::array<double, 3> kScales{0.75, 1.0, 1.33};
+// Patch scales, about a factor 1.25 apart over make_template's range.
+constexpr std::array<double, 8> kScaleSteps{0.6, 0.75, 0.95, 1.2, 1.5, 1.9, 2.4, 3.0};
+// A corner whose distance the elevation does not give: the scales about 1.
+constexpr std::array<int, 3> kUnknownDistanceSteps{1, 2, 3};
 constexpr double kMinPairM = 0.3;
 constexpr double kMaxRangeM = 15.0;
+
+int nearest_scale_step(double scale) {
+  int best = 0;
+  for (int k = 1; k < static_cast<int>(kScaleSteps.size()); ++k) {
+    if (std::abs(std::log(scale / kScaleSteps[static_cast<std::size_t>(k)])) <
+        std::abs(std::log(scale / kScaleSteps[static_cast<std::size_t>(best)]))) {
+      best = k;
+    }
+  }
+  return best;
+}
+
+// P(X >= k) for X ~ Binomial(n, p).
+double binomial_tail(int n, int k, double p) {
+  if (k <= 0) {
+    return 1.0;
+  }
+  if (!(p < 1.0)) {
+    return k <= n ? 1.0 : 0.0;
+  }
+  double term = std::pow(1.0 - p, n);  // P(X = 0)
+  double below = 0.0;
+  for (int i = 0; i < k && i <= n; ++i) {
+    below += term;
+    term *= static_cast<double>(n - i) / static_cast<double>(i + 1) * p / (1.0 - p);
+  }
+  return std::clamp(1.0 - below, 0.0, 1.0);
+}
+
+bool tried_without_distance(int step) {
+  return std::find(kUnknownDistanceSteps.begin(), kUnknownDistanceSteps.end(), step) !=
+         kUnknownDistanceSteps.end();
+}
 }  // namespace
 
 Relocalizer::Relocalizer(const CameraModel& camera, const RelocalizerConfig& config)
@@ -18,10 +54,29 @@ void Relocalizer::begin(const hal::GrayImageView& image, const frontend::Corner*
                         int corner_count, const Vector6d& camera_pose) {
   image_ = image;
   corners_ = corners;
-  corner_count_ = corner_count;
+  corner_count_ = std::clamp(corner_count, 0, hal::kMaxCorners);
   pose_ = camera_pose;
   R_rp_ = rotation_zyx(camera_pose(3), camera_pose(4), 0.0);
+  for (int i = 0; i < corner_count_; ++i) {
+    LevelRay& ray = rays_[static_cast<std::size_t>(i)];
+    ray.valid = false;
+    Eigen::Vector2d n;
+    if (!camera_.undistort(corners_[i].x, corners_[i].y, n)) {
+      continue;
+    }
+    const Eigen::Vector3d d = R_rp_ * CameraModel::ray(n);
+    const double h = std::hypot(d.x(), d.y());
+    if (!(h > 0.0)) {
+      continue;
+    }
+    ray.direction = Eigen::Vector2d(d.x(), d.y()) / h;
+    ray.tan_elevation = d.z() / h;
+    ray.valid = true;
+  }
   candidate_count_ = 0;
+  added_count_ = 0;
+  checked_ = 0;
+  confirmed_ = 0;
   row_ = 0;
   best_score_ = 0;
   second_score_ = 0;
@@ -55,28 +110,32 @@ float Relocalizer::ncc_at(const frontend::PatchTemplate& tmpl, double u, double 
   return cross / std::sqrt(var * tmpl.sum_sq);
 }
 
-bool Relocalizer::level_position(double u_px, double v_px, const Eigen::Vector3d& landmark,
+bool Relocalizer::level_position(int corner, const Eigen::Vector3d& landmark,
                                  Eigen::Vector2d& q) const {
-  Eigen::Vector2d n;
-  if (!camera_.undistort(u_px, v_px, n)) {
+  const LevelRay& ray = rays_[static_cast<std::size_t>(corner)];
+  if (!ray.valid || !(std::abs(ray.tan_elevation) >= config_.min_elevation_tan)) {
     return false;
   }
-  const Eigen::Vector3d d = R_rp_ * CameraModel::ray(n);
-  const double h = std::hypot(d.x(), d.y());
-  if (!(h > 0.0)) {
-    return false;
-  }
-  const double tan_e = d.z() / h;
-  const double dz = landmark.z() - pose_(2);
-  if (!(std::abs(tan_e) >= config_.min_elevation_tan)) {
-    return false;
-  }
-  const double dist = dz / tan_e;
+  const double dist = (landmark.z() - pose_(2)) / ray.tan_elevation;
   if (!(dist > 0.0 && dist < kMaxRangeM)) {
     return false;
   }
-  q = Eigen::Vector2d(d.x(), d.y()) * (dist / h);
+  q = ray.direction * dist;
   return true;
+}
+
+void Relocalizer::assign_scale_steps(const Eigen::Vector3d& landmark,
+                                     const frontend::LandmarkPatch& patch) {
+  const Eigen::Vector3d anchor(patch.anchor[0], patch.anchor[1], patch.anchor[2]);
+  const double first_distance = patch.has_anchor ? (landmark - anchor).norm() : patch.first_depth_m;
+  const double dz = landmark.z() - pose_(2);
+  for (int i = 0; i < corner_count_; ++i) {
+    Eigen::Vector2d q;
+    scale_step_[static_cast<std::size_t>(i)] =
+        level_position(i, landmark, q) ? nearest_scale_step(frontend::predicted_patch_scale(
+                                             first_distance, std::sqrt(q.squaredNorm() + dz * dz)))
+                                       : -1;
+  }
 }
 
 void Relocalizer::consider(const Candidate& c) {
@@ -94,17 +153,31 @@ void Relocalizer::consider(const Candidate& c) {
 
 void Relocalizer::add_landmark(int slot, const Eigen::Vector3d& position,
                                const frontend::LandmarkPatch& patch) {
-  // The best corners of this landmark, at any of the scales.
+  if (added_count_ < hal::kMaxLandmarks) {
+    added_[static_cast<std::size_t>(added_count_++)] = Added{slot, position, &patch};
+  }
+  // The best corners of this landmark, each matched at the scale its distance implies.
   constexpr int kMaxPerLandmark = 8;
   std::array<int, kMaxPerLandmark> best_corner{};
   std::array<float, kMaxPerLandmark> best_ncc{};
   const int keep = std::min(config_.candidates_per_landmark, kMaxPerLandmark);
   int n = 0;
-  for (const double scale : kScales) {
-    if (!frontend::make_template(patch, scale, 3.0F, template_)) {
-      continue;
-    }
+  assign_scale_steps(position, patch);
+  for (int step = 0; step < static_cast<int>(kScaleSteps.size()); ++step) {
+    const bool without_distance = tried_without_distance(step);
+    bool made = false;
     for (int i = 0; i < corner_count_; ++i) {
+      const int at_step = scale_step_[static_cast<std::size_t>(i)];
+      if (at_step != step && !(at_step < 0 && without_distance)) {
+        continue;
+      }
+      if (!made) {
+        made = true;
+        if (!frontend::make_template(patch, kScaleSteps[static_cast<std::size_t>(step)], 3.0F,
+                                     template_)) {
+          break;
+        }
+      }
       const float ncc = ncc_at(template_, corners_[i].x, corners_[i].y);
       if (!(ncc >= config_.min_ncc)) {
         continue;
@@ -131,11 +204,11 @@ void Relocalizer::add_landmark(int slot, const Eigen::Vector3d& position,
     Candidate c;
     c.slot = slot;
     c.landmark = position;
-    const frontend::Corner& corner = corners_[best_corner[static_cast<std::size_t>(k)]];
-    c.u_px = corner.x;
-    c.v_px = corner.y;
+    const int i = best_corner[static_cast<std::size_t>(k)];
+    c.u_px = corners_[i].x;
+    c.v_px = corners_[i].y;
     c.ncc = best_ncc[static_cast<std::size_t>(k)];
-    c.has_q = level_position(c.u_px, c.v_px, position, c.q);
+    c.has_q = level_position(i, position, c.q);
     consider(c);
   }
 }
@@ -214,11 +287,59 @@ bool Relocalizer::search_step() {
       }
     }
   }
-  return row_ >= candidate_count_;
+  if (row_ < candidate_count_) {
+    return false;
+  }
+  check_best();
+  return true;
+}
+
+void Relocalizer::check_best() {
+  checked_ = 0;
+  confirmed_ = 0;
+  if (best_score_ == 0) {
+    return;
+  }
+  const Eigen::Matrix3d R = rotation_zyx(best_(3), best_(4), best_(5));
+  const Eigen::Vector3d t = best_.head<3>();
+  const int r = static_cast<int>(std::ceil(config_.inlier_px));
+  for (int k = 0; k < added_count_ && checked_ < kMaxChecked; ++k) {
+    const Added& a = added_[static_cast<std::size_t>(k)];
+    if (best_inliers_[static_cast<std::size_t>(a.slot)]) {
+      continue;
+    }
+    const Eigen::Vector3d p_c = R.transpose() * (a.position - t);
+    Eigen::Vector2d px;
+    if (!camera_.project(p_c, px, nullptr) || px.x() < frontend::kPatchRadius + r ||
+        px.y() < frontend::kPatchRadius + r ||
+        px.x() > image_.width - 1 - frontend::kPatchRadius - r ||
+        px.y() > image_.height - 1 - frontend::kPatchRadius - r) {
+      continue;
+    }
+    const Eigen::Vector3d anchor(a.patch->anchor[0], a.patch->anchor[1], a.patch->anchor[2]);
+    const double first =
+        a.patch->has_anchor ? (a.position - anchor).norm() : a.patch->first_depth_m;
+    if (!frontend::make_template(*a.patch, frontend::predicted_patch_scale(first, p_c.norm()), 3.0F,
+                                 template_)) {
+      continue;
+    }
+    ++checked_;
+    bool seen = false;
+    for (int dy = -r; dy <= r && !seen; ++dy) {
+      for (int dx = -r; dx <= r && !seen; ++dx) {
+        seen = ncc_at(template_, px.x() + dx, px.y() + dy) >= config_.min_ncc;
+      }
+    }
+    confirmed_ += seen ? 1 : 0;
+  }
 }
 
 bool Relocalizer::found(Vector6d& camera_pose) const {
-  if (best_score_ < config_.min_inliers || best_score_ < second_score_ + config_.min_margin) {
+  const bool checked = checked_ > 0 ? binomial_tail(checked_, confirmed_, config_.chance_match) <=
+                                          config_.max_chance_probability
+                                    : best_score_ >= config_.min_inliers_unchecked;
+  if (best_score_ < config_.min_inliers || best_score_ < second_score_ + config_.min_margin ||
+      !checked) {
     return false;
   }
   camera_pose = best_;

@@ -110,8 +110,9 @@ TEST(SimTrajectory, ArcIntegrationMatchesSmallSteps) {
 
 TEST(SimScenario, BuiltInsLoadAndDescribeTheRequiredWorlds) {
   const auto names = sim::builtin_scenario_names();
-  for (const char* n : {"default-room", "corridor", "poor-texture", "person-walking", "kidnapped",
-                        "standstills", "sparse-poor-odometry", "realistic-camera"}) {
+  for (const char* n :
+       {"default-room", "corridor", "poor-texture", "person-walking", "kidnapped",
+        "kidnapped-across", "standstills", "sparse-poor-odometry", "realistic-camera"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
     auto sc = sim::load_scenario(n);
     ASSERT_TRUE(sc.ok()) << n << ": " << sc.error();
@@ -439,6 +440,33 @@ TEST(Simulator, KidnappedRobotIsLiftedAndMoved) {
     last = src->next_event_time();
   }
   EXPECT_EQ(lifts, (std::vector<bool>{true, false}));
+}
+
+// Carried across the room: set down more than 4.5 m from where it was lifted, turned by about a
+// quarter turn.
+TEST(Simulator, KidnappedAcrossIsSetDownOnTheFarSide) {
+  TempDir dir;
+  const auto sc = load("kidnapped-across", {"duration_s=160"});
+  ASSERT_TRUE(sim::simulate(sc, dir.str()).ok());
+  auto d = readers::load_dataset(dir.str());
+  ASSERT_TRUE(d.ok()) << d.error();
+  ASSERT_EQ(d->lift.size(), 2U);
+  const readers::GroundTruthPose* before = nullptr;
+  const readers::GroundTruthPose* after = nullptr;
+  for (const auto& g : d->groundtruth) {
+    if (g.t_ns <= d->lift[0].t_ns) before = &g;
+    if (after == nullptr && g.t_ns >= d->lift[1].t_ns) after = &g;
+  }
+  ASSERT_NE(before, nullptr);
+  ASSERT_NE(after, nullptr);
+  const double dx = after->position_m[0] - before->position_m[0];
+  const double dy = after->position_m[1] - before->position_m[1];
+  EXPECT_GT(std::hypot(dx, dy), 4.5);
+  const auto yaw = [](const readers::GroundTruthPose& g) {
+    return 2.0 * std::atan2(g.orientation_wxyz[3], g.orientation_wxyz[0]);
+  };
+  const double turn = std::remainder(yaw(*after) - yaw(*before), 2.0 * M_PI);
+  EXPECT_NEAR(std::abs(turn), M_PI / 2.0, 0.2);
 }
 
 TEST(Simulator, SparsePoorOdometryIsSparse) {

@@ -29,24 +29,69 @@ struct Scene {
   std::vector<int> slots;
   std::vector<Eigen::Vector3d> landmarks;
   std::vector<fe::LandmarkPatch> patches;
+  std::vector<Eigen::Vector2d> pixels;  // in the frame
 
-  // Landmarks on the frame's corners at depths from 2 m to 4 m, seen from `truth`.
-  Scene() {
+  // Landmarks on the frame's corners at depths from 2 m to 4 m, seen from `truth`. With
+  // `closer` != 1 each was first seen from 1 / closer times its distance (its patch is taken from
+  // the scene magnified by `closer`, its anchor is the camera then).
+  explicit Scene(double closer = 1.0) {
     truth << 1.5, -0.8, 0.1, 0.0, -0.17, 0.9;
     detector.detect(image.view(), 320, 240);
+    const cleanslam::test::Warp zoom{.scale = closer};
+    const cleanslam::test::GrayImage first = cleanslam::test::render(zoom);
     const Eigen::Matrix3d R = cs::rotation_zyx(truth(3), truth(4), truth(5));
     for (int i = 0; i < detector.corner_count() && static_cast<int>(slots.size()) < 20; ++i) {
       const fe::Corner& c = detector.corners()[i];
       Eigen::Vector2d n;
       fe::LandmarkPatch patch;
+      double u = 0.0;
+      double v = 0.0;
+      zoom.apply(c.x, c.y, u, v);
       if (!camera.undistort(c.x, c.y, n) ||
-          !fe::capture_patch(image.view(), c.x, c.y, 3.0, patch)) {
+          !fe::capture_patch(first.view(), u, v, 3.0 / closer, patch)) {
         continue;
       }
       const double depth = 2.0 + 0.1 * static_cast<double>(slots.size() % 21);
+      const Eigen::Vector3d landmark = truth.head<3>() + R * cs::CameraModel::ray(n) * depth;
+      if (closer != 1.0) {
+        const Eigen::Vector3d anchor = landmark - (landmark - truth.head<3>()) / closer;
+        patch.anchor = {anchor.x(), anchor.y(), anchor.z()};
+        patch.has_anchor = true;
+      }
       slots.push_back(static_cast<int>(slots.size()) * 3);
-      landmarks.push_back(truth.head<3>() + R * cs::CameraModel::ray(n) * depth);
+      pixels.emplace_back(c.x, c.y);
+      landmarks.push_back(landmark);
       patches.push_back(patch);
+    }
+    // Landmarks away from every corner: never candidates, but where a pose puts them in view
+    // they check it.
+    for (int gy = 40; gy < 240 - 30; gy += 30) {
+      for (int gx = 40; gx < 320 - 30; gx += 30) {
+        bool far = true;
+        for (int i = 0; i < detector.corner_count(); ++i) {
+          far = far && std::hypot(detector.corners()[i].x - gx, detector.corners()[i].y - gy) > 8.0;
+        }
+        Eigen::Vector2d n;
+        fe::LandmarkPatch patch;
+        double u = 0.0;
+        double v = 0.0;
+        zoom.apply(gx, gy, u, v);
+        if (!far || !camera.undistort(gx, gy, n) ||
+            !fe::capture_patch(first.view(), u, v, 3.0 / closer, patch)) {
+          continue;
+        }
+        const double depth = 2.0 + 0.1 * static_cast<double>(slots.size() % 21);
+        const Eigen::Vector3d landmark = truth.head<3>() + R * cs::CameraModel::ray(n) * depth;
+        if (closer != 1.0) {
+          const Eigen::Vector3d anchor = landmark - (landmark - truth.head<3>()) / closer;
+          patch.anchor = {anchor.x(), anchor.y(), anchor.z()};
+          patch.has_anchor = true;
+        }
+        slots.push_back(static_cast<int>(slots.size()) * 3);
+        pixels.emplace_back(gx, gy);
+        landmarks.push_back(landmark);
+        patches.push_back(patch);
+      }
     }
   }
 
@@ -84,6 +129,49 @@ TEST(Relocalizer, FindsThePlanarPoseOfAFrameSeeingTheEarlierMap) {
   // Height, roll and pitch are the filter's.
   EXPECT_EQ(found(2), scene.truth(2));
   EXPECT_EQ(found(4), scene.truth(4));
+}
+
+// First sightings from more than three times farther (patches a third the size): at scales about
+// 1 hardly any match; at the scale each corner's elevation implies (the anchor's distance over
+// the corner's) most do.
+TEST(Relocalizer, FindsLandmarksFirstSeenFromMuchFarther) {
+  const Scene scene(0.3);
+  ASSERT_GE(scene.slots.size(), 12U);
+  cs::Relocalizer r(scene.camera);
+  cs::Vector6d found;
+  ASSERT_TRUE(scene.relocalize(r, found));
+  EXPECT_GE(r.inliers(), 15);
+  EXPECT_NEAR(found(0), scene.truth(0), 0.05);
+  EXPECT_NEAR(found(1), scene.truth(1), 0.05);
+  EXPECT_NEAR(cs::wrap_angle(found(5) - scene.truth(5)), 0.0, 0.02);
+}
+
+// The first eight landmarks look as they should and lie where they should; the others lie where
+// they should but their patches are of another texture: the pose the eight support puts the
+// others in view, where their patches do not match, so it is not taken.
+TEST(Relocalizer, APoseWhoseOtherLandmarksDoNotLookAsMappedIsNotTaken) {
+  Scene scene;
+  ASSERT_GE(scene.slots.size(), 16U);
+  const cleanslam::test::GrayImage other = cleanslam::test::render(
+      cleanslam::test::Warp{}, 320, 240, 1.0, 0.0, cleanslam::test::TextureOptions{.seed = 5});
+  for (std::size_t i = 8; i < scene.slots.size(); ++i) {
+    ASSERT_TRUE(fe::capture_patch(other.view(), scene.pixels[i].x(), scene.pixels[i].y(), 3.0,
+                                  scene.patches[i]));
+  }
+  cs::RelocalizerConfig config;
+  config.min_inliers = 6;
+  cs::Relocalizer r(scene.camera, config);
+  cs::Vector6d found;
+  EXPECT_FALSE(scene.relocalize(r, found));
+  EXPECT_GE(r.inliers(), 6);  // enough without the check
+  EXPECT_GE(r.checked(), 8);
+  EXPECT_LT(r.confirmed(), r.checked() / 5);
+  // With the patches as mapped the pose is taken, and the other landmarks confirm it.
+  const Scene intact;
+  cs::Relocalizer r2(intact.camera, config);
+  EXPECT_TRUE(intact.relocalize(r2, found));
+  EXPECT_GE(r2.checked(), 8);
+  EXPECT_GT(r2.confirmed(), r2.checked() / 2);
 }
 
 TEST(Relocalizer, AMapThatDoesNotFitTheViewIsNotTakenForIt) {

@@ -86,10 +86,12 @@ class Ekf {
 
   void delete_landmark(int slot);
 
-  // The camera pose estimate moved to camera_pose, its covariance and the landmarks unchanged:
-  // the pose found again against the map after it was lost (Relocalizer). False, with nothing
-  // changed, for a pose not finite or while an update is pending.
-  bool relocate(const Vector6d& camera_pose);
+  // The camera pose estimate moved to camera_pose, the pose found again against the map after it
+  // was lost (Relocalizer): x, y and yaw take planar_cov (over x, y, yaw) and no correlation with
+  // the rest of the state (what the lost estimate knew of them is void); height, roll, pitch and
+  // the landmarks are unchanged. False, with nothing changed, for a pose or covariance not finite,
+  // a covariance not positive definite, or while an update is pending.
+  bool relocate(const Vector6d& camera_pose, const Eigen::Matrix3d& planar_cov);
 
   // Two slots that hold the same point (a landmark mapped again after the pose was lost, and its
   // earlier map entry): the linear update with the constraint y_keep - y_drop = 0 (std. dev.

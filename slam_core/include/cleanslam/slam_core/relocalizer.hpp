@@ -16,7 +16,9 @@
 namespace cleanslam::slam_core {
 
 // Relocalization after the robot was carried further than the filter's pose covariance says:
-// the earlier map's landmarks are looked for among the frame's corners by appearance alone, and
+// the earlier map's landmarks are looked for among the frame's corners by appearance (each
+// first-sighting patch at the scale the corner's elevation implies: the landmark's height is
+// mapped, so the elevation gives its distance from the camera), and
 // planar camera poses (x, y, yaw; height, roll and pitch are the filter's) are hypothesized from
 // pairs of candidate sightings (each candidate's bearing and elevation give its horizontal
 // position from the camera) and scored by the landmarks that project onto their candidates.
@@ -28,7 +30,8 @@ class Relocalizer {
   // A frame: its image and corners (both stay valid until solved) and the filter's camera pose.
   void begin(const hal::GrayImageView& image, const frontend::Corner* corners, int corner_count,
              const Vector6d& camera_pose);
-  // An earlier landmark and its first-sighting patch: its candidate sightings.
+  // An earlier landmark and its first-sighting patch (both stay valid until solved): its
+  // candidate sightings.
   void add_landmark(int slot, const Eigen::Vector3d& position,
                     const frontend::LandmarkPatch& patch);
   // One bounded part of the pose search; true when it is complete.
@@ -37,6 +40,10 @@ class Relocalizer {
   [[nodiscard]] bool found(Vector6d& camera_pose) const;
   [[nodiscard]] int inliers() const { return best_score_; }
   [[nodiscard]] int candidate_count() const { return candidate_count_; }
+  // The best pose's check by appearance: of the other landmarks it puts in view (at most
+  // kMaxChecked), how many match their patch near where they project.
+  [[nodiscard]] int checked() const { return checked_; }
+  [[nodiscard]] int confirmed() const { return confirmed_; }
 
  private:
   struct Candidate {
@@ -49,11 +56,23 @@ class Relocalizer {
     float ncc = 0.0F;
   };
   static constexpr int kMaxCandidates = 96;
+  static constexpr int kMaxChecked = 24;
+  // A corner's ray levelled by the filter's roll and pitch: its horizontal direction and the
+  // tangent of its elevation.
+  struct LevelRay {
+    Eigen::Vector2d direction = Eigen::Vector2d::Zero();
+    double tan_elevation = 0.0;
+    bool valid = false;
+  };
 
   [[nodiscard]] float ncc_at(const frontend::PatchTemplate& tmpl, double u, double v) const;
-  bool level_position(double u_px, double v_px, const Eigen::Vector3d& landmark,
-                      Eigen::Vector2d& q) const;
+  bool level_position(int corner, const Eigen::Vector3d& landmark, Eigen::Vector2d& q) const;
+  // Which of kScaleSteps the landmark's patch takes at each corner (-1: the corner's distance is
+  // not known, kUnknownDistanceSteps are tried).
+  void assign_scale_steps(const Eigen::Vector3d& landmark, const frontend::LandmarkPatch& patch);
   int score(double x, double y, double yaw);
+  // checked_ and confirmed_ of the best pose.
+  void check_best();
   // Landmarks the last hypothesis shares with the best one.
   [[nodiscard]] int shared_with_best() const;
   void consider(const Candidate& c);
@@ -65,11 +84,22 @@ class Relocalizer {
   int corner_count_ = 0;
   Vector6d pose_ = Vector6d::Zero();
   Eigen::Matrix3d R_rp_ = Eigen::Matrix3d::Identity();  // roll and pitch of the camera
+  std::array<LevelRay, hal::kMaxCorners> rays_{};
+  std::array<int, hal::kMaxCorners> scale_step_{};
   std::array<Candidate, kMaxCandidates> candidates_{};
   int candidate_count_ = 0;
   std::array<bool, hal::kMaxLandmarks> counted_{};  // the last hypothesis's inliers
   std::array<bool, hal::kMaxLandmarks> best_inliers_{};
   frontend::PatchTemplate template_;
+  struct Added {
+    int slot = -1;
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    const frontend::LandmarkPatch* patch = nullptr;
+  };
+  std::array<Added, hal::kMaxLandmarks> added_{};
+  int added_count_ = 0;
+  int checked_ = 0;
+  int confirmed_ = 0;
   int row_ = 0;
   int best_score_ = 0;
   Vector6d best_ = Vector6d::Zero();
