@@ -23,7 +23,6 @@ never asserted.
 """
 
 import argparse
-import bisect
 import json
 import math
 import os
@@ -66,17 +65,10 @@ def planar_errors(groundtruth_csv, trajectory_tum):
     times, errs = [], []
     for r in mc._read_rows(trajectory_tum):
         t = r[0]
-        i = bisect.bisect_right(gt_t, t)
-        if i == 0 or (i == len(gt_t) and t > gt_t[-1]):
+        truth = mc.truth_at(gt, gt_t, t)
+        if truth is None:
             continue
-        a = gt[i - 1]
-        if i == len(gt_t) or gt_t[i - 1] == t:
-            gp, gq = np.array(a[1:4]), a[4:8]
-        else:
-            b = gt[i]
-            s = (t - gt_t[i - 1]) / (gt_t[i] - gt_t[i - 1])
-            gp = (1 - s) * np.array(a[1:4]) + s * np.array(b[1:4])
-            gq = mc._slerp(a[4:8], b[4:8], s)
+        gp, gq = truth
         e_pos = np.array(r[1:4])
         if ref is None:
             ref = (mc._quat_to_rot(r[7], r[4], r[5], r[6]), e_pos, mc._quat_to_rot(*gq), gp)

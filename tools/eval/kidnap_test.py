@@ -15,19 +15,9 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import kidnap as k  # noqa: E402
+from checks import check, exit_status, near  # noqa: E402
 
 TOOL = os.path.join(os.path.dirname(os.path.abspath(__file__)), "kidnap.py")
-failures = []
-
-
-def check(ok, what):
-    if not ok:
-        failures.append(what)
-        print(f"FAIL: {what}", file=sys.stderr)
-
-
-def near(value, expected, tol, what):
-    check(value is not None and abs(value - expected) <= tol, f"{what}: {value} != {expected}")
 
 
 def write_run(work, relocalize_at, error_after=0.05, leave_at=None):
@@ -122,8 +112,7 @@ def main():
                        capture_output=True, text=True, check=False)
     check(p.returncode == 1 and "not found" in p.stderr, f"missing programs: {p.stderr}")
 
-    if failures:
-        print(f"{len(failures)} check(s) failed", file=sys.stderr)
+    if exit_status():
         return 1
     print("kidnap.py: all checks passed")
     return 0

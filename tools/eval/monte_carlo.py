@@ -144,6 +144,20 @@ def _time_key(t_s):
     return round(t_s * 1e6)  # the evaluation matches covariance stamps within 1 us
 
 
+def truth_at(gt, gt_t, t):
+    """The ground truth's (position, quaternion w x y z) at t seconds, interpolated between its
+    rows (gt: rows of groundtruth.csv, gt_t: their times in seconds), or None outside its span."""
+    i = bisect.bisect_right(gt_t, t)
+    if i == 0 or (i == len(gt_t) and t > gt_t[-1]):
+        return None
+    a = gt[i - 1]
+    if i == len(gt_t) or gt_t[i - 1] == t:
+        return np.array(a[1:4]), a[4:8]
+    b = gt[i]
+    s = (t - gt_t[i - 1]) / (gt_t[i] - gt_t[i - 1])
+    return (1 - s) * np.array(a[1:4]) + s * np.array(b[1:4]), _slerp(a[4:8], b[4:8], s)
+
+
 def pose_nees(groundtruth_csv, trajectory_tum, cov_file):
     """Returns (times_s, nees) of every estimated pose inside the ground truth with a
     positive-definite covariance."""
@@ -162,17 +176,10 @@ def pose_nees(groundtruth_csv, trajectory_tum, cov_file):
     times, values = [], []
     for r in est:
         t = r[0]
-        i = bisect.bisect_right(gt_t, t)
-        if i == 0 or (i == len(gt_t) and t > gt_t[-1]):
+        truth = truth_at(gt, gt_t, t)
+        if truth is None:
             continue
-        a = gt[i - 1]
-        if i == len(gt_t) or gt_t[i - 1] == t:
-            gp, gq = np.array(a[1:4]), a[4:8]
-        else:
-            b = gt[i]
-            s = (t - gt_t[i - 1]) / (gt_t[i] - gt_t[i - 1])
-            gp = (1 - s) * np.array(a[1:4]) + s * np.array(b[1:4])
-            gq = _slerp(a[4:8], b[4:8], s)
+        gp, gq = truth
         g_rot = _quat_to_rot(*gq)
         e_pos = np.array(r[1:4])
         e_rot = _quat_to_rot(r[7], r[4], r[5], r[6])

@@ -23,23 +23,13 @@ except ImportError as e:
     sys.exit(77)
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from checks import check, exit_status, near  # noqa: E402
+
 TOOL = os.path.join(os.path.dirname(os.path.abspath(__file__)), "track_quality.py")
 W, H, FRAMES = 320, 240, 10
 SHIFT_TOP, SHIFT_BOTTOM, SPLIT_ROW = 2, 5, 120
 T0_NS, DT_NS = 1_000_000_000, 500_000_000
-
-failures = []
-
-
-def check(ok, what):
-    if not ok:
-        failures.append(what)
-        print(f"FAIL: {what}", file=sys.stderr)
-
-
-def near(value, expected, tol, what):
-    check(value is not None and abs(value - expected) <= tol,
-          f"{what}: {value}, expected {expected} +- {tol}")
 
 
 def make_dataset(root):
@@ -216,7 +206,6 @@ check(p.returncode == 2, f"neither tracks nor baseline: exit {p.returncode}")
 p = run(os.path.join(work, "nowhere"), tracks)
 check(p.returncode == 1 and "nowhere" in p.stderr, f"missing dataset: {p.stderr}")
 
-if failures:
-    print(f"{len(failures)} check(s) failed", file=sys.stderr)
+if exit_status():
     sys.exit(1)
 print("track_quality: all checks passed")

@@ -34,6 +34,31 @@ struct Scene {
   // Landmarks on the frame's corners at depths from 2 m to 4 m, seen from `truth`. With
   // `closer` != 1 each was first seen from 1 / closer times its distance (its patch is taken from
   // the scene magnified by `closer`, its anchor is the camera then).
+  // A landmark at pixel (x, y) of the frame, its patch from `first` (the scene magnified by
+  // `closer`), at a depth from 2 m to 4 m.
+  void add_landmark(double x, double y, double closer, const cleanslam::test::Warp& zoom,
+                    const cleanslam::test::GrayImage& first, const Eigen::Matrix3d& R) {
+    Eigen::Vector2d n;
+    fe::LandmarkPatch patch;
+    double u = 0.0;
+    double v = 0.0;
+    zoom.apply(x, y, u, v);
+    if (!camera.undistort(x, y, n) || !fe::capture_patch(first.view(), u, v, 3.0 / closer, patch)) {
+      return;
+    }
+    const double depth = 2.0 + 0.1 * static_cast<double>(slots.size() % 21);
+    const Eigen::Vector3d landmark = truth.head<3>() + R * cs::CameraModel::ray(n) * depth;
+    if (closer != 1.0) {
+      const Eigen::Vector3d anchor = landmark - (landmark - truth.head<3>()) / closer;
+      patch.anchor = {anchor.x(), anchor.y(), anchor.z()};
+      patch.has_anchor = true;
+    }
+    slots.push_back(static_cast<int>(slots.size()) * 3);
+    pixels.emplace_back(x, y);
+    landmarks.push_back(landmark);
+    patches.push_back(patch);
+  }
+
   explicit Scene(double closer = 1.0) {
     truth << 1.5, -0.8, 0.1, 0.0, -0.17, 0.9;
     detector.detect(image.view(), 320, 240);
@@ -42,26 +67,7 @@ struct Scene {
     const Eigen::Matrix3d R = cs::rotation_zyx(truth(3), truth(4), truth(5));
     for (int i = 0; i < detector.corner_count() && static_cast<int>(slots.size()) < 20; ++i) {
       const fe::Corner& c = detector.corners()[i];
-      Eigen::Vector2d n;
-      fe::LandmarkPatch patch;
-      double u = 0.0;
-      double v = 0.0;
-      zoom.apply(c.x, c.y, u, v);
-      if (!camera.undistort(c.x, c.y, n) ||
-          !fe::capture_patch(first.view(), u, v, 3.0 / closer, patch)) {
-        continue;
-      }
-      const double depth = 2.0 + 0.1 * static_cast<double>(slots.size() % 21);
-      const Eigen::Vector3d landmark = truth.head<3>() + R * cs::CameraModel::ray(n) * depth;
-      if (closer != 1.0) {
-        const Eigen::Vector3d anchor = landmark - (landmark - truth.head<3>()) / closer;
-        patch.anchor = {anchor.x(), anchor.y(), anchor.z()};
-        patch.has_anchor = true;
-      }
-      slots.push_back(static_cast<int>(slots.size()) * 3);
-      pixels.emplace_back(c.x, c.y);
-      landmarks.push_back(landmark);
-      patches.push_back(patch);
+      add_landmark(c.x, c.y, closer, zoom, first, R);
     }
     // Landmarks away from every corner: never candidates, but where a pose puts them in view
     // they check it.
@@ -71,26 +77,9 @@ struct Scene {
         for (int i = 0; i < detector.corner_count(); ++i) {
           far = far && std::hypot(detector.corners()[i].x - gx, detector.corners()[i].y - gy) > 8.0;
         }
-        Eigen::Vector2d n;
-        fe::LandmarkPatch patch;
-        double u = 0.0;
-        double v = 0.0;
-        zoom.apply(gx, gy, u, v);
-        if (!far || !camera.undistort(gx, gy, n) ||
-            !fe::capture_patch(first.view(), u, v, 3.0 / closer, patch)) {
-          continue;
+        if (far) {
+          add_landmark(gx, gy, closer, zoom, first, R);
         }
-        const double depth = 2.0 + 0.1 * static_cast<double>(slots.size() % 21);
-        const Eigen::Vector3d landmark = truth.head<3>() + R * cs::CameraModel::ray(n) * depth;
-        if (closer != 1.0) {
-          const Eigen::Vector3d anchor = landmark - (landmark - truth.head<3>()) / closer;
-          patch.anchor = {anchor.x(), anchor.y(), anchor.z()};
-          patch.has_anchor = true;
-        }
-        slots.push_back(static_cast<int>(slots.size()) * 3);
-        pixels.emplace_back(gx, gy);
-        landmarks.push_back(landmark);
-        patches.push_back(patch);
       }
     }
   }
