@@ -41,6 +41,16 @@ double binomial_tail(int n, int k, double p) {
   return std::clamp(1.0 - below, 0.0, 1.0);
 }
 
+// The landmark's distance from the camera at its first sighting: from its anchor (the camera
+// then) when the patch has one, else the depth it was first assumed at.
+double first_sighting_distance(const Eigen::Vector3d& landmark,
+                               const frontend::LandmarkPatch& patch) {
+  if (!patch.has_anchor) {
+    return patch.first_depth_m;
+  }
+  return (landmark - Eigen::Vector3d(patch.anchor[0], patch.anchor[1], patch.anchor[2])).norm();
+}
+
 bool tried_without_distance(int step) {
   return std::find(kUnknownDistanceSteps.begin(), kUnknownDistanceSteps.end(), step) !=
          kUnknownDistanceSteps.end();
@@ -77,6 +87,7 @@ void Relocalizer::begin(const hal::GrayImageView& image, const frontend::Corner*
   added_count_ = 0;
   checked_ = 0;
   confirmed_ = 0;
+  check_cursor_ = 0;
   row_ = 0;
   best_score_ = 0;
   second_score_ = 0;
@@ -126,8 +137,7 @@ bool Relocalizer::level_position(int corner, const Eigen::Vector3d& landmark,
 
 void Relocalizer::assign_scale_steps(const Eigen::Vector3d& landmark,
                                      const frontend::LandmarkPatch& patch) {
-  const Eigen::Vector3d anchor(patch.anchor[0], patch.anchor[1], patch.anchor[2]);
-  const double first_distance = patch.has_anchor ? (landmark - anchor).norm() : patch.first_depth_m;
+  const double first_distance = first_sighting_distance(landmark, patch);
   const double dz = landmark.z() - pose_(2);
   for (int i = 0; i < corner_count_; ++i) {
     Eigen::Vector2d q;
@@ -290,21 +300,19 @@ bool Relocalizer::search_step() {
   if (row_ < candidate_count_) {
     return false;
   }
-  check_best();
-  return true;
+  return check_best();
 }
 
-void Relocalizer::check_best() {
-  checked_ = 0;
-  confirmed_ = 0;
+bool Relocalizer::check_best() {
   if (best_score_ == 0) {
-    return;
+    return true;
   }
   const Eigen::Matrix3d R = rotation_zyx(best_(3), best_(4), best_(5));
   const Eigen::Vector3d t = best_.head<3>();
   const int r = static_cast<int>(std::ceil(config_.inlier_px));
-  for (int k = 0; k < added_count_ && checked_ < kMaxChecked; ++k) {
-    const Added& a = added_[static_cast<std::size_t>(k)];
+  const int end = std::min(added_count_, check_cursor_ + std::max(1, config_.landmarks_per_step));
+  for (; check_cursor_ < end && checked_ < kMaxChecked; ++check_cursor_) {
+    const Added& a = added_[static_cast<std::size_t>(check_cursor_)];
     if (best_inliers_[static_cast<std::size_t>(a.slot)]) {
       continue;
     }
@@ -316,9 +324,7 @@ void Relocalizer::check_best() {
         px.y() > image_.height - 1 - frontend::kPatchRadius - r) {
       continue;
     }
-    const Eigen::Vector3d anchor(a.patch->anchor[0], a.patch->anchor[1], a.patch->anchor[2]);
-    const double first =
-        a.patch->has_anchor ? (a.position - anchor).norm() : a.patch->first_depth_m;
+    const double first = first_sighting_distance(a.position, *a.patch);
     if (!frontend::make_template(*a.patch, frontend::predicted_patch_scale(first, p_c.norm()), 3.0F,
                                  template_)) {
       continue;
@@ -332,6 +338,7 @@ void Relocalizer::check_best() {
     }
     confirmed_ += seen ? 1 : 0;
   }
+  return check_cursor_ >= added_count_ || checked_ >= kMaxChecked;
 }
 
 bool Relocalizer::found(Vector6d& camera_pose) const {

@@ -71,8 +71,9 @@ class Relocalizer {
   // not known, kUnknownDistanceSteps are tried).
   void assign_scale_steps(const Eigen::Vector3d& landmark, const frontend::LandmarkPatch& patch);
   int score(double x, double y, double yaw);
-  // checked_ and confirmed_ of the best pose.
-  void check_best();
+  // checked_ and confirmed_ of the best pose, landmarks_per_step landmarks per call; true when
+  // complete.
+  bool check_best();
   // Landmarks the last hypothesis shares with the best one.
   [[nodiscard]] int shared_with_best() const;
   void consider(const Candidate& c);
@@ -100,6 +101,7 @@ class Relocalizer {
   int added_count_ = 0;
   int checked_ = 0;
   int confirmed_ = 0;
+  int check_cursor_ = 0;  // the next of added_ check_best() looks at
   int row_ = 0;
   int best_score_ = 0;
   Vector6d best_ = Vector6d::Zero();
