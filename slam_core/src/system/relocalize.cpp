@@ -13,12 +13,11 @@ void SlamSystem::set_down(hal::TimeNs t_ns) {
   // Relocalize: the map stays; the carry is an unknown planar displacement with zero mean,
   // folded in as a prediction (eq. 7) whose body noise is (x, y, yaw) only.
   predict(t_ns);
-  const double s_xy = config_.map.relocalize_std_m;
-  const double s_yaw = config_.map.relocalize_std_yaw_deg * std::numbers::pi / 180.0;
+  const Eigen::Vector3d v = set_down_variances();
   Matrix6d body_cov = Matrix6d::Zero();
-  body_cov(0, 0) = s_xy * s_xy;
-  body_cov(1, 1) = s_xy * s_xy;
-  body_cov(5, 5) = s_yaw * s_yaw;
+  body_cov(0, 0) = v(0);
+  body_cov(1, 1) = v(1);
+  body_cov(5, 5) = v(2);
   Matrix6d J;
   (void)camera_increment_from_body(Vector6d::Zero(), ekf_.camera().R_body_c(),
                                    ekf_.camera().t_body_c(), &J);
@@ -32,6 +31,12 @@ void SlamSystem::set_down(hal::TimeNs t_ns) {
   }
   relocalizing_ = true;
   updates_at_set_down_ = ekf_.counters().updates_applied;
+}
+
+Eigen::Vector3d SlamSystem::set_down_variances() const {
+  const double s_xy = config_.map.relocalize_std_m;
+  const double s_yaw = config_.map.relocalize_std_yaw_deg * std::numbers::pi / 180.0;
+  return {s_xy * s_xy, s_xy * s_xy, s_yaw * s_yaw};
 }
 
 bool SlamSystem::relocalize_step() {
@@ -74,10 +79,7 @@ bool SlamSystem::relocalize_step() {
 // dormant ones are searched again. What the filter learnt of x, y and yaw since the set-down came
 // from those landmarks, in the wrong frame: the pose found is taken as uncertain as a set-down.
 void SlamSystem::relocate(const Vector6d& camera_pose) {
-  const double s_xy = config_.map.relocalize_std_m;
-  const double s_yaw = config_.map.relocalize_std_yaw_deg * std::numbers::pi / 180.0;
-  const Eigen::Matrix3d planar_cov =
-      Eigen::Vector3d(s_xy * s_xy, s_xy * s_xy, s_yaw * s_yaw).asDiagonal();
+  const Eigen::Matrix3d planar_cov = set_down_variances().asDiagonal();
   if (!ekf_.relocate(camera_pose, planar_cov)) {
     return;
   }

@@ -96,6 +96,9 @@ class SlamSystem {
   void collect_image_records();
   // Image path after a relocalizing set-down (relocalize.cpp): one bounded part of the search
   // for the dormant map in this frame; true when done.
+  // The carry of a set-down (MapConfig::relocalize_std_m, relocalize_std_yaw_deg): the variances
+  // of x, y and yaw.
+  [[nodiscard]] Eigen::Vector3d set_down_variances() const;
   bool relocalize_step();
   void relocate(const Vector6d& camera_pose);
 
