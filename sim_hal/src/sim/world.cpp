@@ -201,15 +201,13 @@ World::World(const Scenario& sc, Random& rng) : person_(sc.person) {
     }
   }
   // The objects moved since the landmarks were placed take theirs along.
-  for (std::size_t k = 0; k < furniture.size(); ++k) {
-    const Vec3 d = furniture[k].moved_by;
-    boxes_[k].min = boxes_[k].min + d;
-    boxes_[k].max = boxes_[k].max + d;
-    boxes_[k].moved_by = Vec3{};
-    for (std::size_t i = 0; i < landmarks_.size(); ++i) {
-      if (on_box[i] == static_cast<int>(k)) landmarks_[i].position = landmarks_[i].position + d;
+  for (std::size_t i = 0; i < landmarks_.size(); ++i) {
+    if (on_box[i] >= 0) {
+      landmarks_[i].position =
+          landmarks_[i].position + furniture[static_cast<std::size_t>(on_box[i])].moved_by;
     }
   }
+  boxes_ = solid_boxes(sc.world);
 }
 
 std::vector<Landmark> World::person_points(double t) const {
