@@ -50,6 +50,8 @@ struct MapLandmark {
   double first_depth_m = 0.0;
   std::array<double, 3> anchor_m{};  // the camera at the first sighting
   std::array<float, kPatchPixels> patch{};
+
+  bool operator==(const MapLandmark&) const = default;
 };
 
 // The dock: where the run that saved the map began, in the map's frame.
