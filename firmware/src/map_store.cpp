@@ -277,4 +277,17 @@ bool save_at_end(MapStore& store, const Estimator& estimator, hal::TimeNs t_ns,
   return true;
 }
 
+RunMap::RunMap(const MapStoreOptions& options, const char* program) : program_(program) {
+  if (options.path.empty()) {
+    return;
+  }
+  store_.emplace(options);
+  print_start_check(store_->check_at_start(), program_);
+  saving_.emplace(*store_, program_);
+}
+
+bool RunMap::finish(const Estimator& estimator, hal::TimeNs t_ns) {
+  return !store_ || save_at_end(*store_, estimator, t_ns, program_);
+}
+
 }  // namespace cleanslam::firmware

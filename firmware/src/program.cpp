@@ -444,14 +444,8 @@ int run_normal(const Args& args) {
   }
   HealthReport health("cleanslam", stderr);
   loop.set_health_observer(&health);
-  std::optional<MapStore> map;
-  std::optional<PeriodicMapSave> map_saving;
-  if (!config.map.path.empty()) {
-    map.emplace(config.map);
-    print_start_check(map->check_at_start(), "cleanslam");
-    map_saving.emplace(*map, "cleanslam");
-  }
-  LiveTask* saving = map_saving ? &*map_saving : nullptr;
+  RunMap map(config.map, "cleanslam");
+  LiveTask* saving = map.task();
   StopSignals signals;
   RunEnd end = RunEnd::kStopped;
   hal::TimeNs end_ns = 0;
@@ -470,7 +464,7 @@ int run_normal(const Args& args) {
     end_ns = clock.now();
   }
   recorder.close();
-  const bool map_saved = !map || save_at_end(*map, *estimator, end_ns, "cleanslam");
+  const bool map_saved = map.finish(*estimator, end_ns);
   if (log_source != nullptr) {
     report_log_source(*log_source, config.source.path, &loop);
   }

@@ -8,7 +8,6 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -248,20 +247,12 @@ int main(int argc, char** argv) {
   loop.add_pose_sink(&progress);
   firmware::HealthReport health("cleanslam-replay", stderr);
   loop.set_health_observer(&health);
-  std::optional<firmware::MapStore> map;
-  std::optional<firmware::PeriodicMapSave> map_saving;
-  if (!config.map.path.empty()) {
-    map.emplace(config.map);
-    firmware::print_start_check(map->check_at_start(), "cleanslam-replay");
-    map_saving.emplace(*map, "cleanslam-replay");
-  }
+  firmware::RunMap map(config.map, "cleanslam-replay");
   firmware::VirtualClock clock;
   firmware::StopSignals signals;
-  const firmware::RunEnd end =
-      firmware::run_virtual(loop, clock, false, &signals, map_saving ? &*map_saving : nullptr);
+  const firmware::RunEnd end = firmware::run_virtual(loop, clock, false, &signals, map.task());
   health.finish(clock.now());
-  const bool map_saved =
-      !map || firmware::save_at_end(*map, *estimator, clock.now(), "cleanslam-replay");
+  const bool map_saved = map.finish(*estimator, clock.now());
   trajectory.close();
   dead_reckoning.close();
   dead_reckoning_published.close();

@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -92,5 +93,23 @@ void print_start_check(const MapStore::StartCheck& check, const char* program);
 // Saves at the end of a run and tells; false (the error printed) when the save failed.
 bool save_at_end(MapStore& store, const Estimator& estimator, hal::TimeNs t_ns,
                  const char* program);
+
+// The map a run keeps when map.path names a file: checked (and told) at construction, saved by
+// task() every save interval and by finish() at the end. With no path, nothing.
+class RunMap {
+ public:
+  RunMap(const MapStoreOptions& options, const char* program);
+  RunMap(const RunMap&) = delete;
+  RunMap& operator=(const RunMap&) = delete;
+  // The periodic save for a runner (run.hpp), or null.
+  [[nodiscard]] LiveTask* task() { return saving_ ? &*saving_ : nullptr; }
+  // The save at the end of the run; false (told) when it failed.
+  bool finish(const Estimator& estimator, hal::TimeNs t_ns);
+
+ private:
+  const char* program_;
+  std::optional<MapStore> store_;
+  std::optional<PeriodicMapSave> saving_;
+};
 
 }  // namespace cleanslam::firmware
