@@ -2,19 +2,20 @@
 // is read:
 //  - bit 0 clear: the rest is the file, so magic, version, layout, count, size and CRC are
 //    exercised;
-//  - bit 0 set: a valid header whose count the next byte picks (0-3, or about the capacity),
-//  followed by
-//    the rest repeated to the records' size and sealed with a correct CRC, so damaged values reach
-//    the finiteness and covariance checks.
-// A file the decoder accepts holds only finite values and positive semi-definite covariances, and
-// its snapshot survives encoding and decoding again bit for bit; a refused one leaves the snapshot
-// empty.
+//  - bit 0 set: a valid header whose count the next byte picks (0-3, or about the capacity), with
+//    zero flags and reserved words, followed by the rest repeated to the records' size and sealed
+//    with a correct CRC, so damaged values reach the plausibility checks.
+// A file the decoder accepts holds only finite, plausible values (map_file.hpp's bounds), positive
+// semi-definite covariances, distinct ids and known flags, and encodes back to its own bytes; a
+// refused one leaves the snapshot empty and names where and why.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <memory>
+#include <numbers>
 #include <vector>
 
 #include "cleanslam/hal/map_file.hpp"
@@ -42,14 +43,97 @@ std::vector<std::uint8_t> sealed_file(const std::uint8_t* data, std::size_t size
   w.u32(static_cast<std::uint32_t>(mf::kHeaderSize));
   w.u32(static_cast<std::uint32_t>(mf::kRecordSize));
   w.u32(static_cast<std::uint32_t>(count));
+  // Header flags (24) stay zero, as this version writes them; saved_at, the dock and the records
+  // come from the input, the header's reserved word (60) and each record's reserved word stay zero.
   if (size > 1) {
-    for (std::size_t i = 20; i + 4 < n; ++i) {
-      out[i] = data[1 + (i - 20) % (size - 1)];
+    for (std::size_t i = 28; i + 4 < n; ++i) {
+      const bool reserved = (i >= 60 && i < 64) || (i >= mf::kHeaderSize &&
+                                                    (i - mf::kHeaderSize) % mf::kRecordSize >= 12 &&
+                                                    (i - mf::kHeaderSize) % mf::kRecordSize < 16);
+      out[i] = reserved ? 0 : data[1 + (i - 28) % (size - 1)];
     }
   }
   lf::ByteWriter crc(out.data() + n - 4, 4);
   crc.u32(lf::crc32_update(0, out.data(), n - 4));
   return out;
+}
+
+bool coordinate_ok(double v) {
+  return std::isfinite(v) && std::abs(v) <= mf::kMaxAbsCoordinateM;
+}
+
+void check_refusal(const mf::Decoded& d, const mf::MapSnapshot& m, std::size_t size) {
+  if (m.count != 0) {
+    fail("a refused file left landmarks in the snapshot");
+  }
+  if (d.offset > size) {
+    fail("a refusal's offset lies beyond the file");
+  }
+  if (std::memchr(d.detail.data(), '\0', d.detail.size()) == nullptr) {
+    fail("a refusal's detail is not terminated");
+  }
+  const bool value = d.refusal >= mf::Refusal::kNotFinite;
+  if (value != (d.detail[0] != '\0')) {
+    fail("a refused value without its detail, or a detail without a refused value");
+  }
+}
+
+void check_header(const mf::MapSnapshot& m) {
+  if (m.saved_at_ns < 0 || m.saved_at_ns > mf::kMaxSavedAtNs) {
+    fail("an accepted saved_at_ns is out of range");
+  }
+  if (!coordinate_ok(m.dock.x_m) || !coordinate_ok(m.dock.y_m) ||
+      !(std::abs(m.dock.yaw_rad) <= std::numbers::pi)) {
+    fail("an accepted dock pose is out of range");
+  }
+}
+
+void check_landmark(const mf::MapSnapshot& m, int i) {
+  const mf::MapLandmark& l = m.landmarks[static_cast<std::size_t>(i)];
+  if (l.id < 0) {
+    fail("an accepted id is negative");
+  }
+  for (int j = 0; j < i; ++j) {
+    if (m.landmarks[static_cast<std::size_t>(j)].id == l.id) {
+      fail("two accepted landmarks share an id");
+    }
+  }
+  if ((l.flags & ~mf::kKnownRecordFlags) != 0 ||
+      ((l.flags & mf::kHasAnchor) != 0 && (l.flags & mf::kHasPatch) == 0)) {
+    fail("accepted flags this version does not define");
+  }
+  for (const double v : l.position_m) {
+    if (!coordinate_ok(v)) {
+      fail("an accepted landmark position is out of range");
+    }
+  }
+  for (const std::size_t k : {0U, 3U, 5U}) {
+    if (!(l.covariance[k] >= 0.0 && l.covariance[k] <= mf::kMaxVarianceM2)) {
+      fail("an accepted variance is out of range");
+    }
+  }
+  for (const double v : l.covariance) {
+    if (!std::isfinite(v)) {
+      fail("an accepted covariance is not finite");
+    }
+  }
+  if (!mf::covariance_ok(l.covariance)) {
+    fail("an accepted covariance is not positive semi-definite");
+  }
+  const bool patch = (l.flags & mf::kHasPatch) != 0;
+  if (patch && !(l.first_depth_m > 0.0 && l.first_depth_m <= mf::kMaxAbsCoordinateM)) {
+    fail("an accepted first depth is out of range");
+  }
+  for (const double v : l.anchor_m) {
+    if (!coordinate_ok(v)) {
+      fail("an accepted anchor is out of range");
+    }
+  }
+  for (const float v : l.patch) {
+    if (!(v >= 0.0F && v <= mf::kMaxGrey)) {
+      fail("an accepted patch value is outside the grey range");
+    }
+  }
 }
 
 }  // namespace
@@ -69,31 +153,25 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   m.count = -1;
   const mf::Decoded d = mf::decode(bytes.data(), bytes.size(), m);
   if (d.refusal != mf::Refusal::kNone) {
-    if (m.count != 0) {
-      fail("a refused file left landmarks in the snapshot");
-    }
-    if (d.offset > bytes.size()) {
-      fail("a refusal's offset lies beyond the file");
-    }
+    check_refusal(d, m, bytes.size());
     return 0;
   }
   if (m.count < 0 || m.count > mf::kMaxMapLandmarks || bytes.size() != mf::file_size(m.count)) {
     fail("an accepted file's count does not match its size");
   }
+  if (d.detail[0] != '\0') {
+    fail("an accepted file carries a refusal's detail");
+  }
+  check_header(m);
   for (int i = 0; i < m.count; ++i) {
-    const mf::MapLandmark& l = m.landmarks[static_cast<std::size_t>(i)];
-    for (const double v : l.position_m) {
-      if (!std::isfinite(v)) {
-        fail("an accepted landmark position is not finite");
-      }
-    }
-    if (!mf::covariance_ok(l.covariance)) {
-      fail("an accepted covariance is not positive semi-definite");
-    }
+    check_landmark(m, i);
   }
   std::vector<std::uint8_t> again(bytes.size());
   if (mf::encode(m, again.data(), again.size()) != bytes.size()) {
     fail("an accepted snapshot does not encode to its file's size");
+  }
+  if (again != bytes) {
+    fail("an accepted file does not encode back to its own bytes");
   }
   static const auto second = std::make_unique<mf::MapSnapshot>();
   mf::MapSnapshot& m2 = *second;

@@ -1,7 +1,10 @@
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
+#include <numbers>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -28,7 +31,7 @@ std::unique_ptr<MapSnapshot> sample_map(int count) {
       l.first_depth_m = 1.5 + i;
       l.anchor_m = {0.1, 0.2 * i, 0.1};
       for (std::size_t k = 0; k < l.patch.size(); ++k) {
-        l.patch[k] = static_cast<float>((k * 7 + static_cast<std::size_t>(i)) % 256) + 0.25F;
+        l.patch[k] = static_cast<float>((k * 7 + static_cast<std::size_t>(i)) % 255) + 0.25F;
       }
     }
   }
@@ -177,7 +180,7 @@ TEST(MapFile, NonFiniteValuesAreRefusedEvenWithAValidCrc) {
     reseal(p);
     Decoded d = decode_bytes(p, *back);
     EXPECT_EQ(d.refusal, Refusal::kNotFinite);
-    EXPECT_EQ(d.offset, kHeaderSize);
+    EXPECT_EQ(d.offset, kPositionAt + 8);
     EXPECT_EQ(back->count, 0);
 
     Bytes dock = b;
@@ -185,7 +188,7 @@ TEST(MapFile, NonFiniteValuesAreRefusedEvenWithAValidCrc) {
     reseal(dock);
     d = decode_bytes(dock, *back);
     EXPECT_EQ(d.refusal, Refusal::kNotFinite);
-    EXPECT_EQ(d.offset, 36U);
+    EXPECT_EQ(d.offset, 44U);
 
     Bytes patch = b;
     put_le(patch, kHeaderSize + kRecordSize - 4,
@@ -234,6 +237,140 @@ TEST(MapFile, FieldsTheFlagsSayAreAbsentComeBackAsZero) {
   ASSERT_EQ(decode_bytes(b, *back).refusal, Refusal::kNone);
   EXPECT_EQ(back->landmarks[1].first_depth_m, 0.0);
   EXPECT_EQ(back->landmarks[1].anchor_m, (std::array<double, 3>{}));
+}
+
+constexpr std::size_t kRecord1At = kHeaderSize + kRecordSize;
+constexpr std::size_t kDepthAt = kHeaderSize + 88;
+constexpr std::size_t kAnchorAt = kHeaderSize + 96;
+constexpr std::size_t kPatchAt = kHeaderSize + 120;
+
+void put_f32(Bytes& b, std::size_t at, float v) {
+  put_le(b, at, std::bit_cast<std::uint32_t>(v), 4);
+}
+
+struct ValueCase {
+  const char* name;
+  std::function<void(Bytes&)> edit;
+  Refusal refusal;
+  std::size_t offset;
+  const char* detail;  // the whole detail the refusal carries
+};
+
+// Each value the issue found accepted with a valid CRC, and the other plausibility checks: refused
+// with the field, its value and what is allowed; the snapshot left empty.
+TEST(MapFile, ImplausibleValuesAreRefusedNamingTheFieldAndTheValue) {
+  const Bytes b = encoded(*sample_map(2));
+  const std::vector<ValueCase> cases{
+      {"position 1e308", [](Bytes& x) { put_f64(x, kPositionAt, 1e308); }, Refusal::kOutOfRange,
+       kPositionAt, "landmark 0 (id 1000): position_m[0] = 1e+308, allowed -10000 to 10000 m"},
+      {"position z -1e4 - 1", [](Bytes& x) { put_f64(x, kPositionAt + 16, -10001.0); },
+       Refusal::kOutOfRange, kPositionAt + 16,
+       "landmark 0 (id 1000): position_m[2] = -10001, allowed -10000 to 10000 m"},
+      {"variance 1e308", [](Bytes& x) { put_f64(x, kCovarianceAt + 24, 1e308); },
+       Refusal::kOutOfRange, kCovarianceAt + 24,
+       "landmark 0 (id 1000): covariance yy = 1e+308, allowed 0 to 1e+08 m^2"},
+      {"negative variance", [](Bytes& x) { put_f64(x, kCovarianceAt + 40, -1.0); },
+       Refusal::kNotCovariance, kCovarianceAt + 40,
+       "landmark 0 (id 1000): covariance zz = -1, allowed 0 to 1e+08 m^2"},
+      {"covariance NaN",
+       [](Bytes& x) { put_f64(x, kCovarianceAt + 8, std::numeric_limits<double>::quiet_NaN()); },
+       Refusal::kNotFinite, kCovarianceAt + 8,
+       "landmark 0 (id 1000): covariance xy = nan, allowed a finite value"},
+      {"correlation above one", [](Bytes& x) { put_f64(x, kCovarianceAt + 8, 0.5); },
+       Refusal::kNotCovariance, kCovarianceAt,
+       "landmark 0 (id 1000): covariance (xx xy xz yy yz zz) = 0.02 0.5 -0.002 0.03 0.0005 0.01, "
+       "allowed a positive semi-definite matrix"},
+      {"dock 1e308", [](Bytes& x) { put_f64(x, 36, 1e308); }, Refusal::kOutOfRange, 36,
+       "header dock.x_m = 1e+308, allowed -10000 to 10000 m"},
+      {"dock yaw 4 rad", [](Bytes& x) { put_f64(x, 52, 4.0); }, Refusal::kOutOfRange, 52,
+       "header dock.yaw_rad = 4, allowed -pi to pi"},
+      {"negative first depth", [](Bytes& x) { put_f64(x, kDepthAt, -1.5); }, Refusal::kOutOfRange,
+       kDepthAt, "landmark 0 (id 1000): first_depth_m = -1.5, allowed above 0, up to 10000 m"},
+      {"zero first depth", [](Bytes& x) { put_f64(x, kDepthAt, 0.0); }, Refusal::kOutOfRange,
+       kDepthAt, "landmark 0 (id 1000): first_depth_m = 0, allowed above 0, up to 10000 m"},
+      {"anchor 1e308", [](Bytes& x) { put_f64(x, kAnchorAt + 8, 1e308); }, Refusal::kOutOfRange,
+       kAnchorAt + 8, "landmark 0 (id 1000): anchor_m[1] = 1e+308, allowed -10000 to 10000 m"},
+      {"patch 3e38", [](Bytes& x) { put_f32(x, kPatchAt + 28, 3e38F); }, Refusal::kOutOfRange,
+       kPatchAt + 28,
+       "landmark 0 (id 1000): patch[7] = 3.00000001e+38, allowed 0 to 255 (8-bit grey)"},
+      {"patch -1", [](Bytes& x) { put_f32(x, kPatchAt, -1.0F); }, Refusal::kOutOfRange, kPatchAt,
+       "landmark 0 (id 1000): patch[0] = -1, allowed 0 to 255 (8-bit grey)"},
+      {"saved_at INT64_MIN",
+       [](Bytes& x) {
+         put_le(x, 28, static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::min()), 8);
+       },
+       Refusal::kOutOfRange, 28,
+       "header saved_at_ns = -9223372036854775808, allowed 0 to 4611686018427387904"},
+      {"saved_at INT64_MAX",
+       [](Bytes& x) {
+         put_le(x, 28, static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()), 8);
+       },
+       Refusal::kOutOfRange, 28,
+       "header saved_at_ns = 9223372036854775807, allowed 0 to 4611686018427387904"},
+      {"duplicate id", [](Bytes& x) { put_le(x, kRecord1At, 1000, 8); }, Refusal::kDuplicateId,
+       kRecord1At, "landmark 1 (id 1000): id = 1000, already landmark 0's"},
+      {"negative id", [](Bytes& x) { put_le(x, kRecord1At, ~std::uint64_t{0}, 8); },
+       Refusal::kOutOfRange, kRecord1At,
+       "landmark 1 (id -1): id = -1, allowed 0 or more (a track id or a slot)"},
+      {"unknown record flag", [](Bytes& x) { put_le(x, kHeaderSize + 8, 0x7, 4); },
+       Refusal::kUnknownFlags, kHeaderSize + 8,
+       "landmark 0 (id 1000): flags = 0x7, allowed 0x1 (patch), 0x3 (patch, anchor) or 0"},
+      {"anchor without patch", [](Bytes& x) { put_le(x, kRecord1At + 8, kHasAnchor, 4); },
+       Refusal::kUnknownFlags, kRecord1At + 8,
+       "landmark 1 (id 1001): flags = 0x2, allowed 0x1 (patch), 0x3 (patch, anchor) or 0"},
+      {"header flag", [](Bytes& x) { put_le(x, 24, 0x80000000U, 4); }, Refusal::kUnknownFlags, 24,
+       "header flags = 0x80000000, allowed 0 (this version defines none)"},
+      {"header reserved", [](Bytes& x) { put_le(x, 60, 1, 4); }, Refusal::kNotZero, 60,
+       "header reserved = 0x1, allowed 0 (reserved)"},
+      {"record reserved", [](Bytes& x) { put_le(x, kRecord1At + 12, 9, 4); }, Refusal::kNotZero,
+       kRecord1At + 12, "landmark 1 (id 1001): reserved = 0x9, allowed 0 (reserved)"},
+      {"depth without patch", [](Bytes& x) { put_f64(x, kRecord1At + 88, 2.0); }, Refusal::kNotZero,
+       kRecord1At + 88,
+       "landmark 1 (id 1001): first_depth_m = 0x4000000000000000, allowed 0 (the flags say no "
+       "patch)"},
+      {"patch without patch", [](Bytes& x) { put_f32(x, kRecord1At + 120 + 40, 1.0F); },
+       Refusal::kNotZero, kRecord1At + 120 + 40,
+       "landmark 1 (id 1001): patch[10] = 0x3f800000, allowed 0 (the flags say no patch)"},
+  };
+  auto back = std::make_unique<MapSnapshot>();
+  for (const ValueCase& c : cases) {
+    Bytes x = b;
+    c.edit(x);
+    reseal(x);
+    back->count = 9;
+    const Decoded d = decode_bytes(x, *back);
+    EXPECT_EQ(d.refusal, c.refusal) << c.name << ": " << to_string(d.refusal);
+    EXPECT_EQ(d.offset, c.offset) << c.name;
+    EXPECT_EQ(std::string(d.detail.data()), c.detail) << c.name;
+    EXPECT_EQ(back->count, 0) << c.name;
+  }
+}
+
+TEST(MapFile, ValuesAtTheBoundsAreAccepted) {
+  auto m = sample_map(2);
+  m->saved_at_ns = kMaxSavedAtNs;
+  m->dock = DockPose{-kMaxAbsCoordinateM, kMaxAbsCoordinateM, -std::numbers::pi};
+  MapLandmark& l = m->landmarks[0];
+  l.position_m = {kMaxAbsCoordinateM, -kMaxAbsCoordinateM, 0.0};
+  l.covariance = {kMaxVarianceM2, 0.0, 0.0, kMaxVarianceM2, 0.0, 0.0};
+  l.first_depth_m = kMaxAbsCoordinateM;
+  l.patch.front() = 0.0F;
+  l.patch.back() = kMaxGrey;
+  m->landmarks[1].id = 0;
+  const Bytes b = encoded(*m);
+  auto back = std::make_unique<MapSnapshot>();
+  const Decoded d = decode_bytes(b, *back);
+  EXPECT_EQ(d.refusal, Refusal::kNone) << to_string(d.refusal) << ": " << d.detail.data();
+  EXPECT_EQ(back->count, 2);
+  EXPECT_STREQ(d.detail.data(), "");
+}
+
+// The decoder accepts only what the encoder writes: an accepted file encodes back to its bytes.
+TEST(MapFile, AnAcceptedFileEncodesBackToTheSameBytes) {
+  const Bytes b = encoded(*sample_map(4));
+  auto back = std::make_unique<MapSnapshot>();
+  ASSERT_EQ(decode_bytes(b, *back).refusal, Refusal::kNone);
+  EXPECT_EQ(encoded(*back), b);
 }
 
 }  // namespace
