@@ -395,6 +395,11 @@ int run_normal(const Args& args) {
     }
   }
   const std::unique_ptr<Estimator> estimator = make_estimator(config);
+  // The map first: a second process on the same map is refused before it writes any output.
+  RunMap map(config.map, "cleanslam");
+  if (map.refused()) {
+    return 2;
+  }
   Loop loop(loop_options(config), *estimator);
   if (robot) {
     for (int i = 0; i < robot->source_count(); ++i) {
@@ -444,7 +449,6 @@ int run_normal(const Args& args) {
   }
   HealthReport health("cleanslam", stderr);
   loop.set_health_observer(&health);
-  RunMap map(config.map, "cleanslam");
   LiveTask* saving = map.task();
   StopSignals signals;
   RunEnd end = RunEnd::kStopped;

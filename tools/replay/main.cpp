@@ -216,6 +216,11 @@ int main(int argc, char** argv) {
   if (config.calibration_from_dataset) {
     config.calibration = source->calibration();
   }
+  // The map first: a second process on the same map is refused before it writes any output.
+  firmware::RunMap map(config.map, "cleanslam-replay");
+  if (map.refused()) {
+    return 2;
+  }
   const tools::OwnedEntry ours = [](const std::string& name) {
     return std::find(kOutputs.begin(), kOutputs.end(), name) != kOutputs.end();
   };
@@ -247,7 +252,6 @@ int main(int argc, char** argv) {
   loop.add_pose_sink(&progress);
   firmware::HealthReport health("cleanslam-replay", stderr);
   loop.set_health_observer(&health);
-  firmware::RunMap map(config.map, "cleanslam-replay");
   firmware::VirtualClock clock;
   firmware::StopSignals signals;
   const firmware::RunEnd end = firmware::run_virtual(loop, clock, false, &signals, map.task());

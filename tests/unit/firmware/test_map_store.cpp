@@ -118,6 +118,11 @@ void fill_map(mf::MapSnapshot& m, double shift) {
   }
 }
 
+// This process's temporary file for a map path (map_paths.hpp).
+std::string tmp_of(const std::string& path) {
+  return path + ".tmp." + std::to_string(::getpid());
+}
+
 MapStoreOptions options(const std::string& path) {
   MapStoreOptions o;
   o.path = path;
@@ -142,7 +147,7 @@ TEST(MapStore, SaveThenStartUpCheckGivesTheSameMap) {
     EXPECT_EQ(saved.landmarks, 3);
     EXPECT_EQ(saved.bytes, mf::file_size(3));
     EXPECT_EQ(fs::file_size(path), mf::file_size(3));
-    EXPECT_FALSE(fs::exists(path + ".tmp"));
+    EXPECT_FALSE(fs::exists(tmp_of(path)));
   }
   MapStore store(options(path));
   const MapStore::StartCheck c = store.check_at_start();
@@ -167,14 +172,16 @@ TEST(MapStore, ASecondSaveReplacesTheFirstWhole) {
   const std::string path = dir.file("map.bin");
   SnapshotEstimator estimator;
   fill_map(estimator.map, 0.0);
-  MapStore store(options(path));
-  MapStore::Saved saved;
-  std::string error;
-  ASSERT_TRUE(store.save(estimator, 1, saved, error)) << error;
-  fill_map(estimator.map, 5.0);
-  estimator.map.count = 2;
-  ASSERT_TRUE(store.save(estimator, 2, saved, error)) << error;
-  EXPECT_EQ(saved.landmarks, 2);
+  {
+    MapStore store(options(path));
+    MapStore::Saved saved;
+    std::string error;
+    ASSERT_TRUE(store.save(estimator, 1, saved, error)) << error;
+    fill_map(estimator.map, 5.0);
+    estimator.map.count = 2;
+    ASSERT_TRUE(store.save(estimator, 2, saved, error)) << error;
+    EXPECT_EQ(saved.landmarks, 2);
+  }  // its lock released, as at the end of a run
   MapStore again(options(path));
   ASSERT_EQ(again.check_at_start().found, MapStore::Found::kValid);
   EXPECT_EQ(again.snapshot().count, 2);
@@ -187,14 +194,14 @@ TEST(MapStore, APeriodicSaveAllocatesNothing) {
   fill_map(estimator.map, 0.0);
   MapStoreOptions o = options(dir.file("map.bin"));
   o.save_interval_s = 1.0;
-  MapStore store(o);
-  firmware::Loop loop(firmware::LoopOptions{}, estimator);
-  firmware::PeriodicMapSave saving(store, "test");
-  saving.run(loop, 0);
   std::size_t allocations = 0;
   {
+    MapStore store(o);
+    firmware::Loop loop(firmware::LoopOptions{}, estimator);
+    firmware::PeriodicMapSave saving(store, "test");
+    saving.run(loop, 0);
     test::AllocationScope scope;
-    saving.run(loop, hal::kNsPerSecond);
+    saving.run(loop, hal::kNsPerSecond);  // the first save also takes the lock
     allocations = scope.count();
   }
   EXPECT_EQ(allocations, 0U);
@@ -230,7 +237,8 @@ TEST(MapStore, ASaveIntoAMissingDirectoryFailsNamingThePath) {
   MapStore::Saved saved;
   std::string error;
   EXPECT_FALSE(store.save(estimator, 1, saved, error));
-  EXPECT_NE(error.find(path + ".tmp: cannot create: No such file or directory"), std::string::npos)
+  EXPECT_NE(error.find(tmp_of(path) + ": cannot create: No such file or directory"),
+            std::string::npos)
       << error;
   EXPECT_NE(error.find(path + " is unchanged"), std::string::npos) << error;
   EXPECT_FALSE(fs::exists(dir.file("no")));
@@ -266,20 +274,21 @@ TEST(MapStore, ASaveIntoAReadOnlyDirectoryFailsAndKeepsTheOldMap) {
   const bool ok = store.save(s.estimator, 2, saved, error);
   ::chmod(s.dir.path.c_str(), 0700);
   EXPECT_FALSE(ok);
-  EXPECT_NE(error.find(s.path + ".tmp: cannot create: Permission denied"), std::string::npos)
+  EXPECT_NE(error.find(tmp_of(s.path) + ": cannot create: Permission denied"), std::string::npos)
       << error;
   EXPECT_EQ(read_bytes(s.path), s.before);
-  EXPECT_FALSE(fs::exists(s.path + ".tmp"));
+  EXPECT_FALSE(fs::exists(tmp_of(s.path)));
 }
 
 TEST(MapStore, ATemporaryFileThatCannotBeCreatedKeepsTheOldMap) {
   SavedBefore s("tmpdir");
-  fs::create_directories(s.path + ".tmp");  // even root cannot open a directory for writing
+  fs::create_directories(tmp_of(s.path));  // even root cannot open a directory for writing
   MapStore store(options(s.path));
   MapStore::Saved saved;
   std::string error;
   EXPECT_FALSE(store.save(s.estimator, 2, saved, error));
-  EXPECT_NE(error.find(s.path + ".tmp: cannot create: Is a directory"), std::string::npos) << error;
+  EXPECT_NE(error.find(tmp_of(s.path) + ": cannot create: Is a directory"), std::string::npos)
+      << error;
   EXPECT_EQ(read_bytes(s.path), s.before);
 }
 
@@ -293,9 +302,9 @@ TEST(MapStore, ARenameThatFailsRemovesTheTemporaryFile) {
   MapStore::Saved saved;
   std::string error;
   EXPECT_FALSE(store.save(estimator, 2, saved, error));
-  EXPECT_NE(error.find(path + ".tmp: cannot rename onto " + path + ": "), std::string::npos)
+  EXPECT_NE(error.find(tmp_of(path) + ": cannot rename onto " + path + ": "), std::string::npos)
       << error;
-  EXPECT_FALSE(fs::exists(path + ".tmp"));
+  EXPECT_FALSE(fs::exists(tmp_of(path)));
   EXPECT_TRUE(fs::is_directory(path + "/occupied"));
 }
 
@@ -463,6 +472,7 @@ TEST(MapStoreFirmware, ARunSavesTheMapItEndsWithAndAReplayWritesNone) {
   EXPECT_EQ(run.program_status, 0);
   ASSERT_FALSE(run.map_bytes.empty()) << run.map_path << " not written";
   EXPECT_FALSE(fs::exists(run.map_path + ".tmp"));
+  EXPECT_FALSE(fs::exists(tmp_of(run.map_path)));
   auto m = std::make_unique<mf::MapSnapshot>();
   const mf::Decoded d = mf::decode(run.map_bytes.data(), run.map_bytes.size(), *m);
   ASSERT_EQ(d.refusal, mf::Refusal::kNone) << mf::to_string(d.refusal) << " at " << d.offset;
@@ -500,8 +510,9 @@ TEST(MapStoreFirmware, TheRunnerSavesPeriodically) {
   EXPECT_GT(m->count, 3);
 }
 
-// A save cut short at byte k leaves `<path>.tmp` with k bytes beside the previous map: the check
-// at start keeps the previous map and removes the remnant.
+// A save cut short at byte k leaves `<path>.tmp.<pid>` (`<path>.tmp` from an earlier version) with
+// k bytes beside the previous map: the check at start keeps the previous map and removes the
+// remnant.
 TEST(MapStoreFirmware, APowerCutDuringASaveKeepsThePreviousMap) {
   const RealRun& run = real_run();
   ASSERT_TRUE(run.ok) << run.why;
@@ -512,12 +523,14 @@ TEST(MapStoreFirmware, APowerCutDuringASaveKeepsThePreviousMap) {
   write_bytes(path, bytes.data(), bytes.size());
   int checked = 0;
   for (std::size_t k = 0; k < bytes.size(); k += 64) {
-    write_bytes(path + ".tmp", bytes.data(), k);
+    const std::string remnant = path + (k % 128 == 0 ? ".tmp" : ".tmp.4242");
+    write_bytes(remnant, bytes.data(), k);
     MapStore store(options(path));
     const MapStore::StartCheck c = store.check_at_start();
     ASSERT_EQ(c.found, MapStore::Found::kValid) << "cut at " << k << ": " << all_text(c);
-    ASSERT_NE(all_text(c).find("removed " + path + ".tmp"), std::string::npos) << all_text(c);
-    ASSERT_FALSE(fs::exists(path + ".tmp")) << "cut at " << k;
+    ASSERT_NE(all_text(c).find("removed " + remnant + ", a save cut short"), std::string::npos)
+        << all_text(c);
+    ASSERT_FALSE(fs::exists(remnant)) << "cut at " << k;
     ASSERT_EQ(store.snapshot().count, static_cast<int>(run.landmarks.size()));
     ++checked;
   }

@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "cleanslam/firmware/estimator.hpp"
+#include "cleanslam/firmware/map_lock.hpp"
+#include "cleanslam/firmware/map_paths.hpp"
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/hal/map_file.hpp"
 #include "cleanslam/hal/time.hpp"
@@ -19,12 +21,15 @@ struct MapStoreOptions {
   double save_interval_s = 300.0;  // saved this often while running, and at the end of a run
 };
 
-// The map file kept across cleaning runs. Saving is atomic: the bytes go to `<path>.tmp` in the
-// same directory, which is synced, renamed onto `<path>`, and the directory synced; a save cut
-// short leaves the previous map whole. At start-up a leftover `<path>.tmp` is removed and `<path>`
-// is checked; a file the decoder refuses is moved aside to `<path>.refused`, never overwritten.
-// The snapshot and the file buffer are allocated once, in the constructor; a save allocates
-// nothing unless it fails.
+// The map file kept across cleaning runs. One process writes it: the check at start takes an
+// advisory lock on `<path>.lock` (map_lock.hpp) and a second process is refused (Found::kLocked).
+// Saving is atomic: the bytes go to this process's `<path>.tmp.<pid>` in the same directory, which
+// is synced, renamed onto `<path>`, and the directory synced; a save cut short leaves the previous
+// map whole. At start-up, under the lock, temporary files left by saves cut short are removed and
+// `<path>` is checked; a file the decoder refuses is moved aside to `<path>.refused`, never
+// overwritten. A symbolic link at `<path>` is followed, and all of this happens beside its target
+// (map_paths.hpp). The snapshot and the file buffer are allocated once, in the constructor; a save
+// allocates nothing unless it fails.
 class MapStore {
  public:
   enum class Found {
@@ -32,10 +37,12 @@ class MapStore {
     kValid,       // a map the decoder accepts, in snapshot()
     kRefused,     // refused and moved aside to `<path>.refused`
     kUnreadable,  // could not be read or moved aside: kept as it is, and this run saves nothing
+    kLocked,      // another process holds the map's lock: this run must not start
   };
   struct Message {
     bool warning = false;
     std::string text;  // names the file
+    bool error = false;
   };
   struct StartCheck {
     Found found = Found::kNone;
@@ -60,14 +67,22 @@ class MapStore {
   [[nodiscard]] bool saving_allowed() const { return saving_allowed_; }
   [[nodiscard]] const hal::map_file::MapSnapshot& snapshot() const { return *snapshot_; }
   [[nodiscard]] const std::string& path() const { return options_.path; }
+  // The files the path names: the map itself (a symbolic link's target), its temporary and lock.
+  [[nodiscard]] const MapPaths& paths() const { return paths_; }
 
  private:
   void refuse(StartCheck& c, const std::string& reason);
+  // Takes the lock (a second process: kLocked and an error message); true unless refused.
+  bool lock(StartCheck& c);
+  void remove_stale_temporaries(StartCheck& c);
+  // The check of `<file>` itself, after the lock.
+  void check_file(StartCheck& c);
 
   MapStoreOptions options_;
-  std::string tmp_path_;
-  std::string refused_path_;
-  std::string dir_;
+  MapPaths paths_;
+  MapLock lock_;
+  bool lock_tried_ = false;
+  bool locked_out_ = false;  // another process held the lock
   hal::TimeNs interval_ns_ = 0;
   hal::TimeNs next_due_ns_ = -1;
   bool saving_allowed_ = true;
@@ -103,11 +118,14 @@ class RunMap {
   RunMap& operator=(const RunMap&) = delete;
   // The periodic save for a runner (run.hpp), or null.
   [[nodiscard]] LiveTask* task() { return saving_ ? &*saving_ : nullptr; }
+  // True when another process holds the map (told): the run must not start.
+  [[nodiscard]] bool refused() const { return refused_; }
   // The save at the end of the run; false (told) when it failed.
   bool finish(const Estimator& estimator, hal::TimeNs t_ns);
 
  private:
   const char* program_;
+  bool refused_ = false;
   std::optional<MapStore> store_;
   std::optional<PeriodicMapSave> saving_;
 };
