@@ -166,6 +166,229 @@ class Case:
         self.extra = extra or []  # further regular expressions stderr must match
 
 
+# --- the map file: two writers, a symlinked path, implausible values (issue 45: 1, 6, 9) --------
+# A map case's args is a runner: it runs its own programs and returns what run() returns, with the
+# exit code replaced by a text saying what failed when the files it leaves are not as they must be.
+MAP_HEADER, MAP_RECORD = 64, 3964
+MAP_SAVE = ["--set", "map.save_interval_s=0.2"]
+
+
+def map_file_state(path):
+    """(True, what) for a whole map file; (False, why) for a missing, cut short or damaged one."""
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as e:
+        return False, "cannot read: %s" % e.strerror
+    if len(data) < MAP_HEADER + 4 or data[:8] != b"CSLAMMAP":
+        return False, "%d bytes, not a map file" % len(data)
+    count = struct.unpack_from("<I", data, 20)[0]
+    if len(data) != MAP_HEADER + MAP_RECORD * count + 4:
+        return False, "%d bytes for %d landmarks (cut short or appended to)" % (len(data), count)
+    if zlib.crc32(data[:-4]) & 0xFFFFFFFF != struct.unpack_from("<I", data, len(data) - 4)[0]:
+        return False, "CRC mismatch"
+    return True, "%d landmarks, saved at %d ns" % (count, struct.unpack_from("<q", data, 28)[0])
+
+
+def map_temporaries(folder, name="map.bin"):
+    return [f for f in os.listdir(folder) if re.fullmatch(re.escape(name) + r"\.tmp(\.\d+)?", f)]
+
+
+def two_writers_killed(dataset, rounds=25):
+    """Runner: two cleanslam started on one map, both killed with SIGKILL at a random moment,
+    `rounds` times. Each round the map must be whole (the previous one or a new one); one of the
+    two must be refused at start; temporaries of killed saves must not pile up."""
+    def runner(folder):
+        import random
+        rnd = random.Random(45)
+        path = os.path.join(folder, "map.bin")
+        args = EMU + [prog("cleanslam"), "--dataset", dataset, "--set", "map.path=" + path] + MAP_SAVE
+        texts, failed, refused, saved_before, t0 = [], [], 0, None, time.monotonic()
+        for i in range(rounds):
+            procs = [subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+                     for _ in range(2)]
+            # The one refused ends by itself; the other is killed a moment later, while it saves.
+            deadline = time.monotonic() + TIMEOUT_S
+            while all(p.poll() is None for p in procs) and time.monotonic() < deadline:
+                time.sleep(0.01)
+            time.sleep(rnd.uniform(0.0, 1.2))
+            codes = []
+            for p in procs:
+                p.kill()
+                err = p.communicate()[1].decode(errors="replace")
+                codes.append(p.returncode)
+                texts.append(err)
+                refused += 1 if "is in use by another process" in err else 0
+            ok, what = map_file_state(path)
+            if not ok and (saved_before is not None or os.path.exists(path)):
+                failed.append("round %d: map.bin %s" % (i + 1, what))
+            saved_before = saved_before or ok
+            if len(map_temporaries(folder)) > 2:
+                failed.append("round %d: temporaries pile up: %s" % (i + 1, map_temporaries(folder)))
+            if 2 not in codes:
+                failed.append("round %d: exits %s, none refused (2)" % (i + 1, codes))
+        summary = ("%d rounds of two writers killed: map.bin whole after every round, %d second "
+                   "writers refused, %d temporaries left" % (rounds, refused,
+                                                             len(map_temporaries(folder))))
+        return ("; ".join(failed) if failed else 0), "\n".join(texts + [summary]), \
+            time.monotonic() - t0
+    return runner
+
+
+def symlinked_map(dataset, dangling):
+    """Runner: map.path is a link (dangling or to a saved map) into another folder; the run must
+    save through it to the target and keep the link."""
+    def runner(folder):
+        store = os.path.join(folder, "store")
+        os.makedirs(store, exist_ok=True)
+        target = os.path.join(store, "real.bin")
+        link = os.path.join(folder, "map.bin")
+        if os.path.lexists(link):
+            os.remove(link)
+        os.symlink("store/real.bin", link)
+        before = None
+        if not dangling:
+            code, err, _ = run([prog("cleanslam"), "--dataset", dataset, "--set",
+                                "map.path=" + target])
+            assert code == 0, err
+            before = os.stat(target).st_ino
+        code, err, secs = run([prog("cleanslam"), "--dataset", dataset, "--set",
+                               "map.path=" + link] + MAP_SAVE)
+        ok, what = map_file_state(target)
+        problems = []
+        if not os.path.islink(link):
+            problems.append("map.bin is no longer a link")
+        if not ok:
+            problems.append("the link's target %s" % what)
+        if before is not None and os.stat(target).st_ino == before:
+            problems.append("the target was not replaced by a new map")
+        if map_temporaries(store, "real.bin") or map_temporaries(folder):
+            problems.append("temporaries left")
+        return ("; ".join(problems) if problems else code), err, secs
+    return runner
+
+
+def saved_map(dataset):
+    """A map saved by a run on `dataset`, made once."""
+    out = os.path.join(WORK, "map_base", "map.bin")
+    if not os.path.exists(out):
+        os.makedirs(os.path.dirname(out), exist_ok=True)
+        code, err, _ = run([prog("cleanslam"), "--dataset", dataset, "--set", "map.path=" + out])
+        assert code == 0 and map_file_state(out)[0], err
+        with open(out, "rb") as f:
+            assert struct.unpack_from("<I", f.read(), 20)[0] >= 2, "the base map needs 2 landmarks"
+    return out
+
+
+def implausible_map(dataset, edit):
+    """Runner: a saved map with one value edited and its CRC made valid again; the run must refuse
+    it (moved aside whole to map.bin.refused) and save a new map."""
+    def runner(folder):
+        with open(saved_map(dataset), "rb") as f:
+            data = bytearray(f.read())
+        edit(data)
+        struct.pack_into("<I", data, len(data) - 4, zlib.crc32(bytes(data[:-4])) & 0xFFFFFFFF)
+        path = os.path.join(folder, "map.bin")
+        for p in (path, path + ".refused"):
+            if os.path.exists(p):
+                os.remove(p)
+        with open(path, "wb") as f:
+            f.write(data)
+        code, err, secs = run([prog("cleanslam"), "--dataset", dataset, "--set",
+                               "map.path=" + path])
+        problems = []
+        try:
+            with open(path + ".refused", "rb") as f:
+                if f.read() != bytes(data):
+                    problems.append("map.bin.refused is not the refused file")
+        except OSError:
+            problems.append("no map.bin.refused")
+        ok, what = map_file_state(path)
+        if not ok:
+            problems.append("no new map: map.bin %s" % what)
+        return ("; ".join(problems) if problems else code), err, secs
+    return runner
+
+
+REC0 = MAP_HEADER  # the first landmark's record; the second's follows
+
+
+def pack(fmt, at, value):
+    return lambda d: struct.pack_into(fmt, d, at, value)
+
+
+def with_patch(*more):
+    """The first landmark marked as having a patch (depth 1 m), then `more` edits."""
+    def edit(d):
+        struct.pack_into("<I", d, REC0 + 8, 1)
+        struct.pack_into("<d", d, REC0 + 88, 1.0)
+        for e in more:
+            e(d)
+    return edit
+
+
+def copy_first_id(d):
+    d[REC0 + MAP_RECORD:REC0 + MAP_RECORD + 8] = d[REC0:REC0 + 8]
+
+
+def map_folder(name):
+    def make():
+        d = os.path.join(WORK, "map_" + re.sub(r"\W+", "_", name))
+        shutil.rmtree(d, ignore_errors=True)
+        os.makedirs(d)
+        return d
+    return make
+
+
+def map_cases(dataset):
+    """The map file's cases on `dataset` (long enough to be killed while it saves)."""
+    cases = [
+        Case("map: two writers, 25 kill -9 rounds", "recovered", map_folder("two writers"),
+             two_writers_killed(dataset),
+             r"cleanslam: error: map: \S+/map\.bin is in use by another process \(pid \d+ "
+             r"cleanslam, holding \S+/map\.bin\.lock\): two processes on one map would overwrite "
+             r"each other's saves; this run does not start",
+             extra=[r"25 rounds of two writers killed: map\.bin whole after every round"]),
+        Case("map path a symlink", "recovered", map_folder("symlink"),
+             symlinked_map(dataset, False),
+             r"map\.bin is a symbolic link to \S+/store/real\.bin: the map is read from and saved "
+             r"to \S+/store/real\.bin, and the link is kept",
+             extra=[r"saved \d+ landmarks to \S+/map\.bin, a link to \S+/store/real\.bin"]),
+        Case("map path a dangling symlink", "recovered", map_folder("dangling"),
+             symlinked_map(dataset, True),
+             r"map\.bin is a symbolic link to \S+/store/real\.bin, which does not exist yet"),
+    ]
+    value = "a value out of its plausible range: "
+    first = r"landmark 0 \(id \d+\): "
+    for name, edit, detail, at in [
+        ("position 1e308", pack("<d", REC0 + 16, 1e308),
+         value + first + r"position_m\[0\] = 1e\+308, allowed -10000 to 10000 m", REC0 + 16),
+        ("covariance 1e308", pack("<d", REC0 + 40, 1e308),
+         value + first + r"covariance xx = 1e\+308, allowed 0 to 1e\+08 m\^2", REC0 + 40),
+        ("dock 1e308", pack("<d", 36, 1e308),
+         value + r"header dock\.x_m = 1e\+308, allowed -10000 to 10000 m", 36),
+        ("negative first depth", with_patch(pack("<d", REC0 + 88, -2.0)),
+         value + first + r"first_depth_m = -2, allowed above 0, up to 10000 m", REC0 + 88),
+        ("patch 3e38", with_patch(pack("<f", REC0 + 120, 3e38)),
+         value + first + r"patch\[0\] = 3\.00000001e\+38, allowed 0 to 255 \(8-bit grey\)",
+         REC0 + 120),
+        ("saved_at INT64_MIN", pack("<q", 28, INT64_MIN),
+         value + r"header saved_at_ns = -9223372036854775808, allowed 0 to 4611686018427387904",
+         28),
+        ("duplicate ids", copy_first_id,
+         r"two landmarks with one id: landmark 1 \(id (\d+)\): id = \1, already landmark 0's",
+         REC0 + MAP_RECORD),
+        ("unknown flag bits", pack("<I", REC0 + 8, 0x10),
+         r"flags this version does not define: " + first +
+         r"flags = 0x10, allowed 0x1 \(patch\), 0x3 \(patch, anchor\) or 0", REC0 + 8),
+    ]:
+        cases.append(Case("map " + name, "recovered", map_folder(name),
+                          implausible_map(dataset, edit),
+                          r"\S+/map\.bin: refused: " + detail + r", at byte %d; moved to "
+                          r"\S+/map\.bin\.refused: a new map starts" % at))
+    return cases
+
+
 def main():
     shutil.rmtree(WORK, ignore_errors=True)
     os.makedirs(WORK)
@@ -419,6 +642,7 @@ def main():
         Case("log NaN gyro", "recovered", log_case("log_nan", log_nan), "log",
              r"input refused \(non_finite\)", feat, bound),
     ]
+    cases += map_cases(feat60)
 
     rows, failures = [], 0
     for c in cases:
@@ -426,13 +650,15 @@ def main():
             continue
         path = c.make()
         tum = os.path.join(WORK, re.sub(r"\W+", "_", c.name) + ".tum")
-        if c.args == "dataset":
+        if callable(c.args):
+            args = None  # a runner: it runs its programs itself
+        elif c.args == "dataset":
             args = [prog("cleanslam"), "--dataset", path, "--tum", tum]
         elif c.args == "log":
             args = [prog("cleanslam"), "--log", path, "--tum", tum]
         else:
             args = [prog("cleanslam"), "--replay", path, "--replay-out", path + ".replay"]
-        code, err, secs = run(args)
+        code, err, secs = run(args) if args is not None else c.args(path)
         problems = []
         if code != c.code:
             problems.append("exit %s, expected %s" % (code, c.code))
