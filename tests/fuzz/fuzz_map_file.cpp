@@ -8,6 +8,7 @@
 // A file the decoder accepts holds only finite, plausible values (map_file.hpp's bounds), positive
 // semi-definite covariances, distinct ids and known flags, and encodes back to its own bytes; a
 // refused one leaves the snapshot empty and names where and why.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -45,12 +46,18 @@ std::vector<std::uint8_t> sealed_file(const std::uint8_t* data, std::size_t size
   w.u32(static_cast<std::uint32_t>(count));
   // Header flags (24) stay zero, as this version writes them; saved_at, the dock and the records
   // come from the input, the header's reserved word (60) and each record's reserved word stay zero.
+  // Copied in blocks: a loop over each byte would spend the run in its own comparisons.
   if (size > 1) {
-    for (std::size_t i = 28; i + 4 < n; ++i) {
-      const bool reserved = (i >= 60 && i < 64) || (i >= mf::kHeaderSize &&
-                                                    (i - mf::kHeaderSize) % mf::kRecordSize >= 12 &&
-                                                    (i - mf::kHeaderSize) % mf::kRecordSize < 16);
-      out[i] = reserved ? 0 : data[1 + (i - 28) % (size - 1)];
+    const std::size_t end = n - 4;
+    for (std::size_t i = 28; i < end;) {
+      const std::size_t k = std::min(size - 1, end - i);
+      std::memcpy(out.data() + i, data + 1, k);
+      i += k;
+    }
+    std::memset(out.data() + 60, 0, 4);
+    for (int r = 0; r < count; ++r) {
+      std::memset(out.data() + mf::kHeaderSize + mf::kRecordSize * static_cast<std::size_t>(r) + 12,
+                  0, 4);
     }
   }
   lf::ByteWriter crc(out.data() + n - 4, 4);
