@@ -6,6 +6,7 @@
 #include <fstream>
 #include <memory>
 
+#include "cleanslam/readers/bounded_file.hpp"
 #include "cleanslam/readers/gray_image.hpp"
 
 namespace cleanslam::readers {
@@ -16,6 +17,11 @@ constexpr int kMaxSide = 16384;
 enum class Kind { kPgm, kPng, kUnknown };
 
 Kind sniff(const std::string& path, std::string& error) {
+  const Status bounded = check_bounded_file(path, kImageFileLimit);
+  if (!bounded) {
+    error = bounded.error();
+    return Kind::kUnknown;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     error = path + ": cannot open image";

@@ -6,6 +6,7 @@
 
 #include "cleanslam/hal/calibration_limits.hpp"
 #include "cleanslam/readers/dataset.hpp"
+#include "cleanslam/readers/bounded_file.hpp"
 #include "cleanslam/readers/yaml_document.hpp"
 
 namespace cleanslam::readers {
@@ -137,13 +138,7 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
 
 Result<hal::Calibration> read_sensors_yaml(const std::string& path,
                                            std::vector<std::string>* warnings) {
-  auto doc_text = [&]() -> Result<std::string> {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return Result<std::string>::failure(path + ": cannot open file");
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }();
+  auto doc_text = read_bounded_file(path, kYamlFileLimit);
   if (!doc_text.ok()) return Result<hal::Calibration>::failure(doc_text.error());
   return parse_sensors_yaml(*doc_text, path, warnings);
 }
