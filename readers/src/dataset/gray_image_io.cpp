@@ -99,6 +99,11 @@ Status png_begin(PngImage& png, const std::string& path) {
   if ((png.image.format & (PNG_FORMAT_FLAG_COLOR | PNG_FORMAT_FLAG_LINEAR)) != 0) {
     return Status::failure(path + ": PNG is not 8-bit grayscale");
   }
+  if ((png.image.format & PNG_FORMAT_FLAG_ALPHA) != 0) {
+    return Status::failure(path +
+                           ": PNG has an alpha channel (grey+alpha or transparency); the dataset "
+                           "format takes 8-bit grayscale without one");
+  }
   if (png.image.width == 0 || png.image.height == 0 || png.image.width > kMaxSide ||
       png.image.height > kMaxSide) {
     return Status::failure(path + ": PNG size out of range");
