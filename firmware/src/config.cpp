@@ -38,6 +38,8 @@ class Section {
   double number(const char* key, double fallback, hal::calibration_limits::Limit limit) {
     return number(key, fallback, limit.lo, limit.hi, limit.lo_open);
   }
+  // A number checked by the caller.
+  double value(const char* key, double fallback) { return m_.optional_double(key, fallback); }
   int integer(const char* key, int fallback, std::int64_t lo, std::int64_t hi) {
     const std::int64_t v = m_.optional_int(key, fallback);
     if (m_.has(key) && (v < lo || v > hi)) {
@@ -60,6 +62,8 @@ class Section {
   }
   Section sub(const char* key) { return Section(m_.optional_mapping(key), d_); }
   [[nodiscard]] bool has(const char* key) const { return m_.has(key); }
+  // The dotted path of this section with a trailing dot ("calibration.camera.").
+  [[nodiscard]] std::string prefix() const { return m_.path(""); }
   void error(const char* key, const std::string& message) {
     d_.errors.push_back(where(key) + ": " + message);
   }
@@ -88,10 +92,13 @@ void read_calibration(Section c, hal::Calibration& cal) {
     Section cam = c.sub("camera");
     cal.camera.width = cam.integer("width", cal.camera.width, 1, hal::kImageWidth);
     cal.camera.height = cam.integer("height", cal.camera.height, 1, hal::kImageHeight);
-    cal.camera.fx = cam.number("fx", cal.camera.fx, lim::kFocalPx);
-    cal.camera.fy = cam.number("fy", cal.camera.fy, lim::kFocalPx);
-    cal.camera.cx = cam.number("cx", cal.camera.cx, lim::kPrincipalPointPx);
-    cal.camera.cy = cam.number("cy", cal.camera.cy, lim::kPrincipalPointPx);
+    cal.camera.fx = cam.value("fx", cal.camera.fx);
+    cal.camera.fy = cam.value("fy", cal.camera.fy);
+    cal.camera.cx = cam.value("cx", cal.camera.cx);
+    cal.camera.cy = cam.value("cy", cal.camera.cy);
+    for (const auto& e : lim::camera_geometry_errors(cal.camera, cam.prefix())) {
+      cam.error(e.key, e.message);
+    }
     cam.numbers("distortion", cal.camera.distortion);
     for (const double k : cal.camera.distortion) {
       if (!lim::kDistortion.contains(k)) {

@@ -26,9 +26,9 @@ calibration:
   camera:
     width: 320                # pixels, at most 320
     height: 240               # pixels, at most 240
-    fx: 280                   # pinhole intrinsics, pixels, origin at the top-left pixel's centre
-    fy: 280
-    cx: 159.5
+    fx: 280                   # pinhole intrinsics, pixels, origin at the top-left pixel's centre;
+    fy: 280                   #   fx, fy: a field of view across width, height of 10 to 150 degrees
+    cx: 159.5                 #   cx, cy: inside the image, [-0.5, width - 0.5], [-0.5, height - 0.5]
     cy: 119.5
     distortion: [0, 0, 0, 0]  # radial-tangential k1 k2 p1 p2
     T_body_cam:               # camera optical frame (z forward, x right, y down) in the body frame, 4x4 row-major
@@ -39,8 +39,8 @@ calibration:
     pixel_noise: 0.5          # std. dev. of a feature position, pixels, > 0
     time_offset_s: 0          # camera stamp + offset = the gyro/encoder clock, [-1, 1] s
   wheels:
-    ticks_per_meter_left: 4000   # > 0
-    ticks_per_meter_right: 4000  # > 0
+    ticks_per_meter_left: 4000   # [100, 1e7]: at least a tick per centimetre
+    ticks_per_meter_right: 4000  # [100, 1e7]
     wheel_base: 0.235            # metres between the wheel contact points, > 0
     distance_noise: 0.02         # std. dev. of the travelled distance as a fraction of it, [0, 1]
     scale_error: 0               # std. dev. of the distance scale factor error, [0, 1] (0: not stated)
