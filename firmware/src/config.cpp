@@ -24,12 +24,14 @@ class Section {
  public:
   Section(yaml::MappingReader reader, yaml::Diagnostics& d) : m_(std::move(reader)), d_(d) {}
 
-  double number(const char* key, double fallback, double lo, double hi, bool lo_open = false) {
+  // `why`, when given, follows the range in the message.
+  double number(const char* key, double fallback, double lo, double hi, bool lo_open = false,
+                const char* why = nullptr) {
     const double v = m_.optional_double(key, fallback);
     if (m_.has(key) && (v < lo || v > hi || (lo_open && v <= lo))) {
       std::ostringstream s;
       s << where(key) << ": " << v << " is out of range " << (lo_open ? "(" : "[") << lo << ", "
-        << hi << "]";
+        << hi << "]" << (why != nullptr ? ": " : "") << (why != nullptr ? why : "");
       d_.errors.push_back(s.str());
       return fallback;
     }
@@ -82,6 +84,9 @@ class Section {
 };
 
 namespace lim = hal::calibration_limits;
+
+// The shortest map.save_interval_s: saving on every loop iteration would starve the sensors.
+constexpr double kMinSaveIntervalS = 0.1;
 
 hal::TimeNs seconds(double s) {
   return static_cast<hal::TimeNs>(std::llround(s * 1e9));
@@ -299,7 +304,10 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     Section m = top.sub("map");
     auto& x = cfg.map;
     x.path = m.text("path", x.path);
-    x.save_interval_s = m.number("save_interval_s", x.save_interval_s, 0.0, 86400.0, true);
+    x.save_interval_s =
+        m.number("save_interval_s", x.save_interval_s, kMinSaveIntervalS, 86400.0, false,
+                 "a save holds the loop while it writes and syncs the map, so at most ten a "
+                 "second");
     m.done();
   }
   top.done();

@@ -99,7 +99,7 @@ robot:
 # atomically every save_interval_s and at the end of a run (not by `cleanslam --replay`).
 map:
   path: ""                   # the map file, "" for none (the robot's package: /var/lib/cleanslam/map.bin)
-  save_interval_s: 300       # while running, (0, 86400]
+  save_interval_s: 300       # while running, [0.1, 86400] (a save holds the loop while it writes)
 )yaml";
 
 const char* section_intro(const std::string& section) {
