@@ -258,6 +258,10 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.diagnostics_path = s.text("diagnostics", x.diagnostics_path);
     x.can = s.flag("can", x.can);
     x.can_interface = s.text("can_interface", x.can_interface);
+    x.rotation.max_file_bytes = static_cast<std::size_t>(
+        s.number("max_file_mb", static_cast<double>(x.rotation.max_file_bytes >> 20), 1.0, 1e5) *
+        1048576.0);
+    x.rotation.max_files = s.integer("max_files", x.rotation.max_files, 1, 1000);
     s.done();
   }
   {
@@ -498,7 +502,9 @@ std::string config_text(const FirmwareConfig& c) {
     << "  tum: " << quoted(k.tum_path) << "\n"
     << "  diagnostics: " << quoted(k.diagnostics_path) << "\n"
     << "  can: " << (k.can ? "true" : "false") << "\n"
-    << "  can_interface: " << quoted(k.can_interface) << "\n";
+    << "  can_interface: " << quoted(k.can_interface) << "\n"
+    << "  max_file_mb: " << fmt(static_cast<double>(k.rotation.max_file_bytes) / 1048576.0) << "\n"
+    << "  max_files: " << k.rotation.max_files << "\n";
   const auto& r = c.recorder;
   s << "recorder:\n"
     << "  path: " << quoted(r.path) << "\n"

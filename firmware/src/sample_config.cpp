@@ -76,6 +76,8 @@ sinks:
   diagnostics: ""            # per-update diagnostics records (CSV), "" for none
   can: false                 # drivers: publish the pose as CAN frames (0x201, 0x202 of docs/can.md)
   can_interface: "can0"
+  max_file_mb: 64            # tum, tum.cov, diagnostics: rotate beyond this size, as the recorder does
+  max_files: 4               # keep path, path.1 .. path.(max_files-1) of each
 
 # Binary log of everything crossing the hal boundary, for replay (`cleanslam --replay LOG`).
 recorder:
