@@ -16,7 +16,9 @@ class Fd {
  public:
   explicit Fd(int fd) : fd_(fd) {}
   ~Fd() {
-    if (fd_ >= 0) ::close(fd_);
+    if (fd_ >= 0) {
+      ::close(fd_);
+    }
   }
   Fd(const Fd&) = delete;
   Fd& operator=(const Fd&) = delete;
@@ -81,7 +83,9 @@ const char* file_kind(unsigned mode) {
 
 Status check_bounded_file(const std::string& path, FileLimit limit) {
   auto fd = open_checked(path, limit);
-  if (!fd.ok()) return Status::failure(fd.error());
+  if (!fd.ok()) {
+    return Status::failure(fd.error());
+  }
   ::close(*fd);
   return Status();
 }
@@ -92,17 +96,23 @@ namespace {
 template <typename Container>
 Result<Container> read_whole(const std::string& path, FileLimit limit) {
   auto opened = open_checked(path, limit);
-  if (!opened.ok()) return Result<Container>::failure(opened.error());
+  if (!opened.ok()) {
+    return Result<Container>::failure(opened.error());
+  }
   const Fd fd(*opened);
   Container data;
   std::array<char, std::size_t{1} << 16> buf{};
   while (true) {
     const ssize_t n = ::read(fd.get(), buf.data(), buf.size());
     if (n < 0) {
-      if (errno == EINTR) continue;
+      if (errno == EINTR) {
+        continue;
+      }
       return Result<Container>::failure(path + ": cannot read: " + std::strerror(errno));
     }
-    if (n == 0) break;
+    if (n == 0) {
+      break;
+    }
     if (data.size() + static_cast<std::size_t>(n) > limit.max_bytes) {
       return Result<Container>::failure(path + ": grew while read beyond " + limit_text(limit));
     }
