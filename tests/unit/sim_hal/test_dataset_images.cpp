@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using cleanslam::sim_hal::DatasetWriter;
-using sim_test::TempDir;
+using cleanslam::sim_test::TempDir;
 
 // A 32x24 dataset with two PNG images, 250000000.png and 750000000.png.
 void make_images_dataset(const std::string& folder) {

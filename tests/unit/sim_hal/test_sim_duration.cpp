@@ -11,7 +11,7 @@ namespace sim = cleanslam::sim_hal::sim;
 
 namespace {
 
-using sim_test::TempDir;
+using cleanslam::sim_test::TempDir;
 
 // A duration the path cannot fill used to stop at the path's end without a word.
 TEST(SimDuration, ADurationLongerThanThePathIsRefusedWithItsEnd) {
