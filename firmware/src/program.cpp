@@ -288,6 +288,9 @@ int run_replay(const Args& args) {
   run_recorded(loop, clock, source, &signals);
   recorder.close();
   report_log_source(source, args.replay_log, nullptr);
+  if (!close_and_report_outputs("cleanslam", nullptr, nullptr, &recorder, stderr)) {
+    return 2;
+  }
   readers::LogReader replayed;
   if (!replayed.open(ro.path)) {
     std::fprintf(stderr, "cleanslam: error: %s\n", replayed.error().c_str());

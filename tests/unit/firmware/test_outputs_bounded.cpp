@@ -152,7 +152,7 @@ TEST(OutputsConfig, ACameraThatWouldBlindTheEstimatorIsRefused) {
        "calibration.camera.fx: 1e-06 is out of range [42.87, 1829]: the field of view across "
        "calibration.camera.width 320 px must be 10 to 150 degrees"},
       {"calibration.camera.cx=1e4",
-       "calibration.camera.cx: 1e+04 is out of range [-0.5, 319.5]: the principal point must be "
+       "calibration.camera.cx: 10000 is out of range [-0.5, 319.5]: the principal point must be "
        "inside the image"},
       {"calibration.camera.width=100",  // fx and cx stay those of a 320 px image
        "calibration.camera.cx: 159.5 is out of range [-0.5, 99.5]"},

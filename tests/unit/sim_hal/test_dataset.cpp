@@ -308,10 +308,10 @@ TEST(Dataset, CalibrationNumbersOutsideTheirLimitsAreRefused) {
        "camera.fx: 1e-06 is out of range [42.87, 1829]: the field of view across camera.width "
        "320 px must be 10 to 150 degrees"},
       {"cx: 159.5", "cx: 1e4",
-       "camera.cx: 1e+04 is out of range [-0.5, 319.5]: the principal point must be inside the "
+       "camera.cx: 10000 is out of range [-0.5, 319.5]: the principal point must be inside the "
        "image (camera.width 320 px)"},
       {"width: 320", "width: 16384",
-       "camera.width: 1.638e+04 is out of range [1, 320]: the front end takes images of at most "
+       "camera.width: 16384 is out of range [1, 320]: the front end takes images of at most "
        "320x240 pixels"},
       {"ticks_per_meter_left: 4000.0", "ticks_per_meter_left: 1e-300",
        "wheels.ticks_per_meter_left: 1e-300 is out of range [100, 1e+07]"},

@@ -82,10 +82,13 @@ struct CameraKeyError {
 inline std::vector<CameraKeyError> camera_geometry_errors(const CameraCalibration& c,
                                                           const std::string& prefix) {
   std::vector<CameraKeyError> errors;
+  // The value as written (to 10 digits), the limits to 4.
   const auto range = [](double v, Limit limit) {
     std::ostringstream s;
+    s.precision(10);
+    s << v << " is out of range [";
     s.precision(4);
-    s << v << " is out of range [" << limit.lo << ", " << limit.hi << "]: ";
+    s << limit.lo << ", " << limit.hi << "]: ";
     return s.str();
   };
   for (const auto& [key, v, limit] : {std::tuple{"width", c.width, kImageWidthPx},
