@@ -3,6 +3,7 @@
 #include <string>
 
 #include "cleanslam/evaluation/evaluation.hpp"
+#include "cleanslam/readers/bounded_file.hpp"
 #include "cleanslam/readers/csv.hpp"
 
 namespace cleanslam::evaluation {
@@ -45,6 +46,10 @@ bool numbers(const std::vector<std::string_view>& fields, const std::string& at,
 
 readers::Result<std::vector<TumPose>> read_tum(const std::string& path) {
   using R = readers::Result<std::vector<TumPose>>;
+  if (const readers::Status s = readers::check_bounded_file(path, readers::kTrajectoryFileLimit);
+      !s) {
+    return R::failure(s.error());
+  }
   std::ifstream in(path);
   if (!in) return R::failure(path + ": cannot open file");
   std::vector<TumPose> out;
@@ -80,6 +85,9 @@ readers::Result<std::vector<TumPose>> read_tum(const std::string& path) {
 }
 
 readers::Status read_covariances(const std::string& path, std::vector<TumPose>& poses) {
+  if (readers::Status s = readers::check_bounded_file(path, readers::kTrajectoryFileLimit); !s) {
+    return s;
+  }
   std::ifstream in(path);
   if (!in) return readers::Status::failure(path + ": cannot open file");
   std::string line, error;

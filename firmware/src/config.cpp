@@ -24,12 +24,14 @@ class Section {
  public:
   Section(yaml::MappingReader reader, yaml::Diagnostics& d) : m_(std::move(reader)), d_(d) {}
 
-  double number(const char* key, double fallback, double lo, double hi, bool lo_open = false) {
+  // `why`, when given, follows the range in the message.
+  double number(const char* key, double fallback, double lo, double hi, bool lo_open = false,
+                const char* why = nullptr) {
     const double v = m_.optional_double(key, fallback);
     if (m_.has(key) && (v < lo || v > hi || (lo_open && v <= lo))) {
       std::ostringstream s;
       s << where(key) << ": " << v << " is out of range " << (lo_open ? "(" : "[") << lo << ", "
-        << hi << "]";
+        << hi << "]" << (why != nullptr ? ": " : "") << (why != nullptr ? why : "");
       d_.errors.push_back(s.str());
       return fallback;
     }
@@ -38,6 +40,8 @@ class Section {
   double number(const char* key, double fallback, hal::calibration_limits::Limit limit) {
     return number(key, fallback, limit.lo, limit.hi, limit.lo_open);
   }
+  // A number checked by the caller.
+  double value(const char* key, double fallback) { return m_.optional_double(key, fallback); }
   int integer(const char* key, int fallback, std::int64_t lo, std::int64_t hi) {
     const std::int64_t v = m_.optional_int(key, fallback);
     if (m_.has(key) && (v < lo || v > hi)) {
@@ -60,6 +64,8 @@ class Section {
   }
   Section sub(const char* key) { return Section(m_.optional_mapping(key), d_); }
   [[nodiscard]] bool has(const char* key) const { return m_.has(key); }
+  // The dotted path of this section with a trailing dot ("calibration.camera.").
+  [[nodiscard]] std::string prefix() const { return m_.path(""); }
   void error(const char* key, const std::string& message) {
     d_.errors.push_back(where(key) + ": " + message);
   }
@@ -79,6 +85,9 @@ class Section {
 
 namespace lim = hal::calibration_limits;
 
+// The shortest map.save_interval_s: saving on every loop iteration would starve the sensors.
+constexpr double kMinSaveIntervalS = 0.1;
+
 hal::TimeNs seconds(double s) {
   return static_cast<hal::TimeNs>(std::llround(s * 1e9));
 }
@@ -88,10 +97,13 @@ void read_calibration(Section c, hal::Calibration& cal) {
     Section cam = c.sub("camera");
     cal.camera.width = cam.integer("width", cal.camera.width, 1, hal::kImageWidth);
     cal.camera.height = cam.integer("height", cal.camera.height, 1, hal::kImageHeight);
-    cal.camera.fx = cam.number("fx", cal.camera.fx, lim::kFocalPx);
-    cal.camera.fy = cam.number("fy", cal.camera.fy, lim::kFocalPx);
-    cal.camera.cx = cam.number("cx", cal.camera.cx, lim::kPrincipalPointPx);
-    cal.camera.cy = cam.number("cy", cal.camera.cy, lim::kPrincipalPointPx);
+    cal.camera.fx = cam.value("fx", cal.camera.fx);
+    cal.camera.fy = cam.value("fy", cal.camera.fy);
+    cal.camera.cx = cam.value("cx", cal.camera.cx);
+    cal.camera.cy = cam.value("cy", cal.camera.cy);
+    for (const auto& e : lim::camera_geometry_errors(cal.camera, cam.prefix())) {
+      cam.error(e.key, e.message);
+    }
     cam.numbers("distortion", cal.camera.distortion);
     for (const double k : cal.camera.distortion) {
       if (!lim::kDistortion.contains(k)) {
@@ -246,6 +258,10 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     x.diagnostics_path = s.text("diagnostics", x.diagnostics_path);
     x.can = s.flag("can", x.can);
     x.can_interface = s.text("can_interface", x.can_interface);
+    x.rotation.max_file_bytes = static_cast<std::size_t>(
+        s.number("max_file_mb", static_cast<double>(x.rotation.max_file_bytes >> 20), 1.0, 1e5) *
+        1048576.0);
+    x.rotation.max_files = s.integer("max_files", x.rotation.max_files, 1, 1000);
     s.done();
   }
   {
@@ -292,7 +308,10 @@ void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg)
     Section m = top.sub("map");
     auto& x = cfg.map;
     x.path = m.text("path", x.path);
-    x.save_interval_s = m.number("save_interval_s", x.save_interval_s, 0.0, 86400.0, true);
+    x.save_interval_s =
+        m.number("save_interval_s", x.save_interval_s, kMinSaveIntervalS, 86400.0, false,
+                 "a save holds the loop while it writes and syncs the map, so at most ten a "
+                 "second");
     m.done();
   }
   top.done();
@@ -483,7 +502,9 @@ std::string config_text(const FirmwareConfig& c) {
     << "  tum: " << quoted(k.tum_path) << "\n"
     << "  diagnostics: " << quoted(k.diagnostics_path) << "\n"
     << "  can: " << (k.can ? "true" : "false") << "\n"
-    << "  can_interface: " << quoted(k.can_interface) << "\n";
+    << "  can_interface: " << quoted(k.can_interface) << "\n"
+    << "  max_file_mb: " << fmt(static_cast<double>(k.rotation.max_file_bytes) / 1048576.0) << "\n"
+    << "  max_files: " << k.rotation.max_files << "\n";
   const auto& r = c.recorder;
   s << "recorder:\n"
     << "  path: " << quoted(r.path) << "\n"

@@ -9,6 +9,7 @@
 #include "cleanslam/firmware/clocks.hpp"
 #include "cleanslam/firmware/health_report.hpp"
 #include "cleanslam/firmware/map_store.hpp"
+#include "cleanslam/firmware/output_report.hpp"
 #include "cleanslam/firmware/recorder.hpp"
 #include "cleanslam/firmware/replay_check.hpp"
 #include "cleanslam/firmware/run.hpp"
@@ -287,6 +288,9 @@ int run_replay(const Args& args) {
   run_recorded(loop, clock, source, &signals);
   recorder.close();
   report_log_source(source, args.replay_log, nullptr);
+  if (!close_and_report_outputs("cleanslam", nullptr, nullptr, &recorder, stderr)) {
+    return 2;
+  }
   readers::LogReader replayed;
   if (!replayed.open(ro.path)) {
     std::fprintf(stderr, "cleanslam: error: %s\n", replayed.error().c_str());
@@ -417,7 +421,7 @@ int run_normal(const Args& args) {
   std::string error;
   TumWriter tum;
   if (!config.sinks.tum_path.empty()) {
-    if (!tum.open(config.sinks.tum_path, false, true, error)) {
+    if (!tum.open(config.sinks.tum_path, false, true, error, config.sinks.rotation)) {
       std::fprintf(stderr, "cleanslam: error: %s\n", error.c_str());
       return 2;
     }
@@ -425,7 +429,7 @@ int run_normal(const Args& args) {
   }
   DiagnosticsCsv diagnostics;
   const SinkSettings& k = config.sinks;
-  if (!k.diagnostics_path.empty() && !diagnostics.open(k.diagnostics_path, error)) {
+  if (!k.diagnostics_path.empty() && !diagnostics.open(k.diagnostics_path, error, k.rotation)) {
     std::fprintf(stderr, "cleanslam: error: %s\n", error.c_str());
     return 2;
   }
@@ -468,6 +472,8 @@ int run_normal(const Args& args) {
     end_ns = clock.now();
   }
   recorder.close();
+  const bool outputs_written =
+      close_and_report_outputs("cleanslam", &tum, &diagnostics, &recorder, stderr);
   const bool map_saved = map.finish(*estimator, end_ns);
   if (log_source != nullptr) {
     report_log_source(*log_source, config.source.path, &loop);
@@ -491,7 +497,7 @@ int run_normal(const Args& args) {
     std::fprintf(stderr, "cleanslam: error: %s\n", dataset->stream_error().c_str());
     return 2;
   }
-  return map_saved ? 0 : 2;
+  return map_saved && outputs_written ? 0 : 2;
 }
 
 void print_camera_offset(const CameraOffsetEstimate::Result& c, std::FILE* out) {

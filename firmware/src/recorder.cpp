@@ -1,6 +1,7 @@
 #include "cleanslam/firmware/recorder.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -39,6 +40,7 @@ bool Recorder::open(const RecorderOptions& options, std::string_view config_text
   size_ = 0;
   frames_seen_ = 0;
   stats_ = RecorderStats{};
+  failing_ = false;
   if (!open_file(0)) {
     error = options_.path + ": cannot create the log: " + std::strerror(errno);
     return false;
@@ -51,6 +53,8 @@ bool Recorder::open_file(std::uint32_t file_index) {
   if (fd_ < 0) {
     return false;
   }
+  struct stat st {};
+  rotatable_ = ::fstat(fd_, &st) == 0 && S_ISREG(st.st_mode);
   file_bytes_ = 0;
   const bool was_rotating = rotating_;
   rotating_ = true;
@@ -87,7 +91,8 @@ void Recorder::append(lf::RecordType type, std::size_t payload_size, const Encod
     ++stats_.dropped_buffer_full;
     return;
   }
-  if (!rotating_ && file_bytes_ > header_bytes_ && file_bytes_ + total > options_.max_file_bytes) {
+  if (!rotating_ && rotatable_ && file_bytes_ > header_bytes_ &&
+      file_bytes_ + total > options_.max_file_bytes) {
     rotate();
     if (fd_ < 0) {
       return;
@@ -96,7 +101,7 @@ void Recorder::append(lf::RecordType type, std::size_t payload_size, const Encod
   if (ring_.size() - size_ < total) {
     write_some();
     if (ring_.size() - size_ < total) {
-      ++stats_.dropped_buffer_full;
+      ++(failing_ ? stats_.dropped_write_failed : stats_.dropped_buffer_full);
       return;
     }
   }
@@ -146,10 +151,11 @@ std::size_t Recorder::write_segment(std::size_t max_bytes) {
   const ssize_t written = ::write(fd_, ring_.data() + head_, n);
   if (written <= 0) {
     if (written < 0 && errno != EINTR && errno != EAGAIN) {
-      ++stats_.write_errors;
+      write_failed(errno);
     }
     return 0;
   }
+  failing_ = false;
   const auto w = static_cast<std::size_t>(written);
   head_ = (head_ + w) % ring_.size();
   size_ -= w;
@@ -174,8 +180,8 @@ void Recorder::flush(bool sync) {
       break;
     }
   }
-  if (sync && fd_ >= 0) {
-    ::fsync(fd_);
+  if (sync && fd_ >= 0 && rotatable_ && ::fsync(fd_) != 0) {
+    write_failed(errno);
   }
 }
 
@@ -191,10 +197,28 @@ void Recorder::rotate() {
     }
   }
   if (!open_file(static_cast<std::uint32_t>(stats_.rotations + 1))) {
-    ++stats_.write_errors;
+    write_failed(errno);
   }
   ++stats_.rotations;
   rotating_ = false;
+}
+
+void Recorder::write_failed(int e) {
+  ++stats_.write_errors;
+  failing_ = true;
+  if (stats_.first_write_errno == 0) {
+    stats_.first_write_errno = e != 0 ? e : EIO;
+  }
+}
+
+std::string Recorder::write_error() const {
+  if (stats_.first_write_errno == 0) {
+    return {};
+  }
+  return options_.path + ": cannot write: " + std::strerror(stats_.first_write_errno) + "; " +
+         std::to_string(stats_.write_errors) + " failed write(s), " +
+         std::to_string(stats_.dropped_write_failed) + " record(s) dropped, " +
+         std::to_string(size_) + " byte(s) never written: the recording is incomplete";
 }
 
 void Recorder::close() {

@@ -26,9 +26,9 @@ calibration:
   camera:
     width: 320                # pixels, at most 320
     height: 240               # pixels, at most 240
-    fx: 280                   # pinhole intrinsics, pixels, origin at the top-left pixel's centre
-    fy: 280
-    cx: 159.5
+    fx: 280                   # pinhole intrinsics, pixels, origin at the top-left pixel's centre;
+    fy: 280                   #   fx, fy: a field of view across width, height of 10 to 150 degrees
+    cx: 159.5                 #   cx, cy: inside the image, [-0.5, width - 0.5], [-0.5, height - 0.5]
     cy: 119.5
     distortion: [0, 0, 0, 0]  # radial-tangential k1 k2 p1 p2
     T_body_cam:               # camera optical frame (z forward, x right, y down) in the body frame, 4x4 row-major
@@ -39,8 +39,8 @@ calibration:
     pixel_noise: 0.5          # std. dev. of a feature position, pixels, > 0
     time_offset_s: 0          # camera stamp + offset = the gyro/encoder clock, [-1, 1] s
   wheels:
-    ticks_per_meter_left: 4000   # > 0
-    ticks_per_meter_right: 4000  # > 0
+    ticks_per_meter_left: 4000   # [100, 1e7]: at least a tick per centimetre
+    ticks_per_meter_right: 4000  # [100, 1e7]
     wheel_base: 0.235            # metres between the wheel contact points, > 0
     distance_noise: 0.02         # std. dev. of the travelled distance as a fraction of it, [0, 1]
     scale_error: 0               # std. dev. of the distance scale factor error, [0, 1] (0: not stated)
@@ -76,6 +76,8 @@ sinks:
   diagnostics: ""            # per-update diagnostics records (CSV), "" for none
   can: false                 # drivers: publish the pose as CAN frames (0x201, 0x202 of docs/can.md)
   can_interface: "can0"
+  max_file_mb: 64            # tum, tum.cov, diagnostics: rotate beyond this size, as the recorder does
+  max_files: 4               # keep path, path.1 .. path.(max_files-1) of each
 
 # Binary log of everything crossing the hal boundary, for replay (`cleanslam --replay LOG`).
 recorder:
@@ -99,7 +101,7 @@ robot:
 # atomically every save_interval_s and at the end of a run (not by `cleanslam --replay`).
 map:
   path: ""                   # the map file, "" for none (the robot's package: /var/lib/cleanslam/map.bin)
-  save_interval_s: 300       # while running, (0, 86400]
+  save_interval_s: 300       # while running, [0.1, 86400] (a save holds the loop while it writes)
 )yaml";
 
 const char* section_intro(const std::string& section) {

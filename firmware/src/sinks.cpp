@@ -29,39 +29,26 @@ std::array<double, 9> matrix(const Quat& q) {
           2 * (x * z - w * y),     2 * (y * z + w * x),     1 - 2 * (x * x + y * y)};
 }
 
-// The stdio buffer is ours, allocated here: writing later allocates nothing.
-bool open_file(std::FILE*& f, std::vector<char>& buffer, const std::string& path,
-               std::string& error) {
-  f = std::fopen(path.c_str(), "w");
-  if (f == nullptr) {
-    error = path + ": cannot create: " + std::strerror(errno);
-    return false;
-  }
-  buffer.assign(1U << 16, 0);
-  std::setvbuf(f, buffer.data(), _IOFBF, buffer.size());
-  return true;
-}
-
 }  // namespace
 
-TumWriter::~TumWriter() {
-  close();
-}
-
 bool TumWriter::open(const std::string& path, bool relative_to_first, bool with_covariance,
-                     std::string& error) {
-  close();
+                     std::string& error, Rotation rotation) {
+  (void)close();
   relative_ = relative_to_first;
   have_first_ = false;
-  if (!open_file(file_, buffer_, path, error)) {
+  if (!file_.open(path, rotation, error)) {
     return false;
   }
-  return !with_covariance || open_file(cov_, cov_buffer_, path + ".cov", error);
+  return !with_covariance || cov_.open(path + ".cov", rotation, error);
 }
 
 void TumWriter::publish(const hal::PoseEstimate& pose) {
-  if (file_ == nullptr) {
+  if (!file_.is_open()) {
     return;
+  }
+  if (file_.full() || cov_.full()) {
+    file_.rotate(nullptr);
+    cov_.rotate(nullptr);
   }
   std::array<double, 3> p = pose.position_m;
   Quat q = pose.orientation_wxyz;
@@ -110,35 +97,36 @@ void TumWriter::publish(const hal::PoseEstimate& pose) {
     }
   }
   const double t = static_cast<double>(pose.t_ns) * 1e-9;
-  std::fprintf(file_, "%.9f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", t, p[0], p[1], p[2], q[1], q[2],
-               q[3], q[0]);
-  if (cov_ != nullptr) {
-    std::fprintf(cov_, "%.9f", t);
+  file_.print("%.9f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", t, p[0], p[1], p[2], q[1], q[2], q[3],
+              q[0]);
+  if (cov_.is_open()) {
+    cov_.print("%.9f", t);
     for (double v : cov) {
-      std::fprintf(cov_, " %.9g", v);
+      cov_.print(" %.9g", v);
     }
-    std::fputc('\n', cov_);
+    cov_.print("\n");
   }
 }
 
 void TumWriter::flush() {
-  if (file_ != nullptr) {
-    std::fflush(file_);
-  }
-  if (cov_ != nullptr) {
-    std::fflush(cov_);
-  }
+  file_.flush();
+  cov_.flush();
 }
 
-void TumWriter::close() {
-  if (file_ != nullptr) {
-    std::fclose(file_);
-    file_ = nullptr;
+bool TumWriter::close() {
+  const bool file_ok = file_.close();
+  const bool cov_ok = cov_.close();
+  return file_ok && cov_ok;
+}
+
+std::vector<std::string> TumWriter::errors() const {
+  std::vector<std::string> out;
+  for (const RotatingFile* f : {&file_, &cov_}) {
+    if (f->failed()) {
+      out.push_back(f->error());
+    }
   }
-  if (cov_ != nullptr) {
-    std::fclose(cov_);
-    cov_ = nullptr;
-  }
+  return out;
 }
 
 const char* to_string(hal::log::UpdateStatus s) {
@@ -167,38 +155,40 @@ const char* to_string(hal::log::UpdateStatus s) {
   return "?";
 }
 
-CsvSink::~CsvSink() {
-  if (file_ != nullptr) {
-    std::fclose(file_);
-  }
-}
-
-bool CsvSink::open_with_header(const std::string& path, const char* header, std::string& error) {
-  if (!open_file(file_, buffer_, path, error)) {
+bool CsvSink::open_with_header(const std::string& path, const char* header, std::string& error,
+                               Rotation rotation) {
+  header_ = header;
+  if (!file_.open(path, rotation, error)) {
     return false;
   }
-  std::fputs(header, file_);
+  file_.print("%s", header);
   return true;
 }
 
-void CsvSink::flush() {
-  if (file_ != nullptr) {
-    std::fflush(file_);
+RotatingFile& CsvSink::row() {
+  if (file_.full()) {
+    file_.rotate(header_);
   }
+  return file_;
 }
 
-bool DiagnosticsCsv::open(const std::string& path, std::string& error) {
+void CsvSink::flush() {
+  file_.flush();
+}
+
+bool DiagnosticsCsv::open(const std::string& path, std::string& error, Rotation rotation) {
   return open_with_header(
-      path, "#t_ns,track_id,slot,status,u_px,v_px,innovation_u,innovation_v,mahalanobis2\n", error);
+      path, "#t_ns,track_id,slot,status,u_px,v_px,innovation_u,innovation_v,mahalanobis2\n", error,
+      rotation);
 }
 
 void DiagnosticsCsv::update(const hal::log::UpdateRecord& r) {
-  if (file_ == nullptr) {
+  if (!file().is_open()) {
     return;
   }
-  std::fprintf(file_, "%lld,%lld,%d,%s,%.9g,%.9g,%.9g,%.9g,%.9g\n", static_cast<long long>(r.t_ns),
-               static_cast<long long>(r.track_id), r.slot, to_string(r.status), r.u_px, r.v_px,
-               r.innovation_u, r.innovation_v, r.mahalanobis2);
+  row().print("%lld,%lld,%d,%s,%.9g,%.9g,%.9g,%.9g,%.9g\n", static_cast<long long>(r.t_ns),
+              static_cast<long long>(r.track_id), r.slot, to_string(r.status), r.u_px, r.v_px,
+              r.innovation_u, r.innovation_v, r.mahalanobis2);
 }
 
 }  // namespace cleanslam::firmware

@@ -167,8 +167,8 @@ class Case:
 
 
 # --- the map file: two writers, a symlinked path, implausible values (issue 45: 1, 6, 9) --------
-# A map case's args is a runner: it runs its own programs and returns what run() returns, with the
-# exit code replaced by a text saying what failed when the files it leaves are not as they must be.
+# A map case's args is a runner (marked runs_itself): it runs its own programs and returns what run()
+# returns, with the exit code replaced by a text saying what failed when the files it leaves are not as they must be.
 MAP_HEADER, MAP_RECORD = 64, 3964
 MAP_SAVE = ["--set", "map.save_interval_s=0.2"]
 
@@ -232,6 +232,7 @@ def two_writers_killed(dataset, rounds=25):
                                                              len(map_temporaries(folder))))
         return ("; ".join(failed) if failed else 0), "\n".join(texts + [summary]), \
             time.monotonic() - t0
+    runner.runs_itself = True
     return runner
 
 
@@ -265,6 +266,7 @@ def symlinked_map(dataset, dangling):
         if map_temporaries(store, "real.bin") or map_temporaries(folder):
             problems.append("temporaries left")
         return ("; ".join(problems) if problems else code), err, secs
+    runner.runs_itself = True
     return runner
 
 
@@ -307,6 +309,7 @@ def implausible_map(dataset, edit):
         if not ok:
             problems.append("no new map: map.bin %s" % what)
         return ("; ".join(problems) if problems else code), err, secs
+    runner.runs_itself = True
     return runner
 
 
@@ -386,6 +389,244 @@ def map_cases(dataset):
                           implausible_map(dataset, edit),
                           r"\S+/map\.bin: refused: " + detail + r", at byte %d; moved to "
                           r"\S+/map\.bin\.refused: a new map starts" % at))
+    return cases
+
+
+# --- issue 45: inputs bounded, write errors told, calibrations that blind the estimator ---------
+
+def issue45_input_cases(feat, feat60, imgs, base_log):
+    """Cases of issue 45 (items 2-5, 7, 8, 11, 12): each input that never ends or is not a file is
+    refused naming the file and what it is; a write that fails is told with the file and strerror
+    and the exit status is 2; calibrations that leave the estimator blind are refused naming the
+    key, value and range; the robot's text outputs rotate."""
+    fm = prog("cleanslam")
+
+    def fifo(name):
+        path = os.path.join(WORK, name)
+        if os.path.lexists(path):
+            os.unlink(path)
+        os.mkfifo(path)
+        return path
+
+    def folder(name):
+        path = os.path.join(WORK, name)
+        os.makedirs(path, exist_ok=True)
+        return path
+
+    def with_lift():
+        """The features dataset with a lift.csv (a lift and a set-down)."""
+        d = copy_dataset(feat, "i45_with_lift")
+        with open(os.path.join(d, "encoders.csv")) as f:
+            t = int(f.read().splitlines()[100].split(",")[0])
+        with open(os.path.join(d, "lift.csv"), "w") as f:
+            f.write("#t_ns,lifted\n%d,1\n%d,0\n" % (t, t + 10**9))
+        return d
+
+    def given(path):
+        return lambda: path
+
+    def with_file(name, file, target, source=feat):
+        """A copy of a dataset whose `file` is replaced by `target()` (a FIFO, or a symbolic link
+        to a device)."""
+        def make():
+            d = copy_dataset(source() if callable(source) else source, name)
+            p = os.path.join(d, file)
+            if os.path.lexists(p):
+                os.unlink(p)
+            t = target(p)
+            if t is not None:
+                os.symlink(t, p)
+            return d
+        return make
+
+    def sensors(name, **values):
+        """A copy of the features dataset with sensors.yaml keys set (key: value, any section)."""
+        def make():
+            d = copy_dataset(feat, name)
+            p = os.path.join(d, "sensors.yaml")
+            with open(p) as f:
+                text = f.read()
+            for key, value in values.items():
+                text, n = re.subn(r"(\n\s*%s:) *[-0-9.e+]+" % key, r"\g<1> %s" % value, text)
+                assert n == 1, key
+            with open(p, "w") as f:
+                f.write(text)
+            return d
+        return make
+
+    def text_file(name, text):
+        def make():
+            p = os.path.join(WORK, name)
+            with open(p, "w") as f:
+                f.write(text)
+            return p
+        return make
+
+    def image_case(name, edit):
+        def make():
+            d = copy_dataset(imgs, name)
+            edit(os.path.join(d, "cam0", "data", image_files(d)[3]))
+            return d
+        return make
+
+    def grey_alpha(p):
+        raw = b"".join(b"\0" + b"\x80\xff" * 320 for _ in range(240))
+
+        def chunk(kind, data):
+            c = struct.pack(">I", len(data)) + kind + data
+            return c + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+        with open(p, "wb") as f:
+            f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 320, 240, 8, 4, 0,
+                                                                        0, 0))
+                    + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+    def link_out(p):
+        outside = os.path.join(WORK, "outside.png")
+        shutil.copy(p, outside)
+        os.unlink(p)
+        os.symlink(outside, p)
+
+    def fifo_image(p):
+        os.unlink(p)
+        os.mkfifo(p)
+
+    def dataset(*extra):
+        return lambda path, tum: [fm, "--dataset", path] + list(extra)
+
+    def config(*extra):
+        return lambda path, tum: [fm, "--config", path, "--dataset", feat] + list(extra)
+
+    def log(path, tum):
+        return [fm, "--log", path]
+
+    def replay(path, tum):
+        return [fm, "--replay", path]
+
+    def sim(path, tum):
+        return [prog("cleanslam-sim"), "default-room", path, "--set", "duration_s=7200"]
+
+    rotated = os.path.join(WORK, "i45_rotated")
+
+    def rotated_outputs():
+        shutil.rmtree(rotated, ignore_errors=True)
+        os.makedirs(rotated)
+        return rotated
+
+    def rotated_run(path, tum):
+        return [fm, "--dataset", feat60, "--tum", os.path.join(path, "t.tum"), "--set",
+                "sinks.max_file_mb=1", "--set", "sinks.max_files=2", "--set",
+                "loop.publish_rate_hz=100"]
+
+    def rotated_bounded():
+        """The TUM file and its .cov rotated together: 2 files of each, each within 1 MB and a
+        line."""
+        names = sorted(os.listdir(rotated))
+        problems = []
+        for stem in ("t.tum", "t.tum.cov"):
+            if stem + ".1" not in names:
+                problems.append("no %s.1" % stem)
+        for n in names:
+            if n.endswith(".2") or os.path.getsize(os.path.join(rotated, n)) > 2**20 + 1000:
+                problems.append("%s: beyond the rotation" % n)
+        return problems
+
+    def full_tum():
+        """A TUM path and its .cov that lead to /dev/full (nothing is created in /dev)."""
+        tum = os.path.join(WORK, "i45_full.tum")
+        for p in (tum, tum + ".cov"):
+            if os.path.lexists(p):
+                os.unlink(p)
+            os.symlink("/dev/full", p)
+        return tum
+
+    big = "# a comment line of a configuration that goes on and on\n" * 40000
+    not_file = r"is a %s, not a regular file"
+    cases = [
+        # 2: write errors told, exit status 2
+        Case("i45 --record and --tum on /dev/full", "refused", given(feat),
+             lambda path, tum: [fm, "--dataset", path, "--record", "/dev/full", "--tum",
+                                full_tum()],
+             r"^(?![\s\S]*buffer was full)[\s\S]*/dev/full: cannot write: No space left on device; "
+             r"\d+ failed write\(s\), \d+ record\(s\) dropped", code=2,
+             extra=[r"i45_full\.tum: cannot write: No space left on device: the trajectory is "
+                    r"incomplete", r"i45_full\.tum\.cov: cannot write: No space left"]),
+        Case("i45 diagnostics on /dev/full", "refused", given(feat),
+             dataset("--set", "sinks.diagnostics=/dev/full"),
+             r"/dev/full: cannot write: No space left on device: the diagnostics are incomplete",
+             code=2),
+        # 3, 5: a directory where a file is expected
+        Case("i45 --log DIR", "refused", lambda: folder("i45_dir"), log,
+             r"i45_dir: " + not_file % "directory", code=2),
+        Case("i45 --replay DIR", "refused", lambda: folder("i45_dir"), replay,
+             r"i45_dir: " + not_file % "directory", code=2),
+        Case("i45 --config DIR", "refused", lambda: folder("i45_dir"), config(),
+             r"i45_dir: " + not_file % "directory", code=2),
+        # 4: inputs that never end
+        Case("i45 --config /dev/zero", "refused", given("/dev/zero"), config(),
+             r"/dev/zero: " + not_file % "character device", code=2),
+        Case("i45 --log /dev/zero", "refused", given("/dev/zero"), log,
+             r"/dev/zero: " + not_file % "character device", code=2),
+        Case("i45 gyro.csv linked to /dev/zero", "refused",
+             with_file("i45_gyro_zero", "gyro.csv", lambda p: "/dev/zero"), dataset(),
+             r"gyro\.csv: " + not_file % "character device", code=2),
+        Case("i45 sensors.yaml linked to /dev/zero", "refused",
+             with_file("i45_sensors_zero", "sensors.yaml", lambda p: "/dev/zero"), dataset(),
+             r"sensors\.yaml: " + not_file % "character device", code=2),
+        Case("i45 --config FIFO", "refused", lambda: fifo("i45_config.fifo"), config(),
+             r"i45_config\.fifo: " + not_file % "FIFO", code=2),
+        Case("i45 --log FIFO", "refused", lambda: fifo("i45_log.fifo"), log,
+             r"i45_log\.fifo: " + not_file % "FIFO", code=2),
+        Case("i45 --replay FIFO", "refused", lambda: fifo("i45_replay.fifo"), replay,
+             r"i45_replay\.fifo: " + not_file % "FIFO", code=2),
+        Case("i45 sensors.yaml FIFO", "refused",
+             with_file("i45_sensors_fifo", "sensors.yaml", lambda p: os.mkfifo(p)), dataset(),
+             r"sensors\.yaml: " + not_file % "FIFO", code=2),
+        Case("i45 lift.csv FIFO", "refused",
+             with_file("i45_lift_fifo", "lift.csv", lambda p: os.mkfifo(p), source=with_lift),
+             dataset(), r"lift\.csv: " + not_file % "FIFO", code=2),
+        Case("i45 configuration of 2 MB", "refused", text_file("i45_big.yaml", big), config(),
+             r"i45_big\.yaml: \d+ bytes, more than the 1048576 bytes readers::kYamlFileLimit "
+             r"allows", code=2),
+        # 7: calibrations that leave the estimator blind
+        Case("i45 ticks_per_meter 1e-300", "refused",
+             sensors("i45_ticks", ticks_per_meter_left="1e-300"), dataset(),
+             r"wheels\.ticks_per_meter_left: 1e-300 is out of range \[100, 1e\+07\]", code=2),
+        Case("i45 fx 1e-6", "refused", sensors("i45_fx", fx="1e-6"), dataset(),
+             r"camera\.fx: 1e-06 is out of range \[42\.87, 1829\]: the field of view across "
+             r"camera\.width 320 px must be 10 to 150 degrees", code=2),
+        Case("i45 cx 1e4 with fx 1e5", "refused", sensors("i45_cx", cx="1e4", fx="1e5"),
+             dataset(), r"camera\.cx: 10000 is out of range \[-0\.5, 319\.5\]: the principal "
+             r"point must be inside the image", code=2,
+             extra=[r"camera\.fx: 100000 is out of range"]),
+        Case("i45 camera 16384x16384", "refused",
+             sensors("i45_16384", width="16384", height="16384"), dataset(),
+             r"camera\.width: 16384 is out of range \[1, 320\]: the front end takes images "
+             r"of at most 320x240", code=2),
+        # 8: smaller silent acceptances
+        Case("i45 two YAML documents", "refused",
+             text_file("i45_two_docs.yaml", "loop:\n  frame_rate_hz: 2\n---\nsinks:\n  tum: x\n"),
+             config(), r"i45_two_docs\.yaml:3: a second YAML document", code=2),
+        Case("i45 map.save_interval_s 1e-9", "refused", given(feat),
+             dataset("--set", "map.save_interval_s=1e-9"),
+             r"map\.save_interval_s: 1e-09 is out of range \[0\.1, 86400\]: a save holds the loop",
+             code=2),
+        Case("i45 image linked out of the dataset", "refused", image_case("i45_img_out", link_out),
+             dataset(), r"outside the dataset folder \S+i45_img_out \(a symbolic link out of it\)",
+             code=2),
+        Case("i45 grey+alpha PNG", "refused", image_case("i45_img_alpha", grey_alpha), dataset(),
+             r"\.png: PNG has an alpha channel", code=2),
+        Case("i45 FIFO image", "refused", image_case("i45_img_fifo", fifo_image), dataset(),
+             r"\.png: " + not_file % "FIFO", code=2),
+        # 11: a duration the path cannot fill
+        Case("i45 sim duration beyond the path", "refused",
+             lambda: os.path.join(WORK, "i45_sim_7200"), sim,
+             r"duration_s 7200 s is longer than the path, which ends at 470\.\d s: set duration_s "
+             r"to at most 470\.\d, or path\.repeats to 16", code=1),
+        # 12: the robot's text outputs rotate
+        Case("i45 outputs rotate", "recovered", rotated_outputs, rotated_run,
+             r"t\.tum rotated \d+ time\(s\) at 1 MB \(sinks\.max_file_mb\)"),
+    ]
+    cases[-1].post = rotated_bounded
     return cases
 
 
@@ -643,6 +884,7 @@ def main():
              r"input refused \(non_finite\)", feat, bound),
     ]
     cases += map_cases(feat60)
+    cases += issue45_input_cases(feat, feat60, imgs, base_log)
 
     rows, failures = [], 0
     for c in cases:
@@ -650,12 +892,14 @@ def main():
             continue
         path = c.make()
         tum = os.path.join(WORK, re.sub(r"\W+", "_", c.name) + ".tum")
-        if callable(c.args):
+        if getattr(c.args, "runs_itself", False):
             args = None  # a runner: it runs its programs itself
         elif c.args == "dataset":
             args = [prog("cleanslam"), "--dataset", path, "--tum", tum]
         elif c.args == "log":
             args = [prog("cleanslam"), "--log", path, "--tum", tum]
+        elif callable(c.args):
+            args = c.args(path, tum)
         else:
             args = [prog("cleanslam"), "--replay", path, "--replay-out", path + ".replay"]
         code, err, secs = run(args) if args is not None else c.args(path)
@@ -672,6 +916,7 @@ def main():
         for e in c.extra:
             if re.search(e, err) is None:
                 problems.append("no /%s/" % e.strip())
+        problems += c.post() if getattr(c, "post", None) else []
         value = None
         if c.ate_max is not None and code == 0:
             value = ate(c.dataset, tum)

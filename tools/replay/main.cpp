@@ -16,6 +16,7 @@
 #include "cleanslam/firmware/health_report.hpp"
 #include "cleanslam/firmware/loop.hpp"
 #include "cleanslam/firmware/map_store.hpp"
+#include "cleanslam/firmware/output_report.hpp"
 #include "cleanslam/firmware/program.hpp"
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/sinks.hpp"
@@ -257,9 +258,14 @@ int main(int argc, char** argv) {
   const firmware::RunEnd end = firmware::run_virtual(loop, clock, false, &signals, map.task());
   health.finish(clock.now());
   const bool map_saved = map.finish(*estimator, clock.now());
-  trajectory.close();
-  dead_reckoning.close();
-  dead_reckoning_published.close();
+  bool outputs_written = firmware::close_and_report_outputs("cleanslam-replay", &trajectory,
+                                                            &diagnostics, nullptr, stderr);
+  outputs_written = firmware::close_and_report_outputs("cleanslam-replay", &dead_reckoning, nullptr,
+                                                       nullptr, stderr) &&
+                    outputs_written;
+  outputs_written = firmware::close_and_report_outputs(
+                        "cleanslam-replay", &dead_reckoning_published, nullptr, nullptr, stderr) &&
+                    outputs_written;
   if (end != firmware::RunEnd::kStopped) {
     progress.done();
   }
@@ -274,7 +280,7 @@ int main(int argc, char** argv) {
   if (!source->stream_error().empty()) {
     return fail(source->stream_error());
   }
-  if (!map_saved) {
+  if (!map_saved || !outputs_written) {
     return 2;
   }
   if (end == firmware::RunEnd::kStopped) {

@@ -1,5 +1,7 @@
 #include "cleanslam/readers/csv.hpp"
 
+#include "cleanslam/readers/bounded_file.hpp"
+
 #include <charconv>
 #include <cmath>
 
@@ -97,6 +99,8 @@ Status CsvReader::open(const std::string& path, const CsvSpec& spec) {
   columns_.clear();
   in_.close();
   in_.clear();
+  Status bounded = check_bounded_file(path, kCsvFileLimit);
+  if (!bounded) return bounded;
   in_.open(path, std::ios::binary);
   if (!in_) return Status::failure(path + ": cannot open file");
   if (!std::getline(in_, line_)) return Status::failure(path + ":1: empty file, expected a header");

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <filesystem>
 
 #include "cleanslam/readers/dataset.hpp"
@@ -36,8 +37,8 @@ Status check_images(const std::string& cam_csv, const Dataset& d, const RowLimit
   while (reader.next(row)) {
     const std::string where = cam_csv + ":" + std::to_string(row.line) + ": filename: ";
     const std::string path = d.image_path(row);
-    if (!fs::is_regular_file(path, ec)) return Status::failure(where + path + ": image not found");
-    auto size = read_gray_image_size(path);
+    if (!fs::exists(path, ec)) return Status::failure(where + path + ": image not found");
+    auto size = read_dataset_image_size(d.folder, path);
     if (!size.ok()) return Status::failure(where + size.error());
     if (size->width != d.calibration.camera.width || size->height != d.calibration.camera.height) {
       return Status::failure(where + path + ": image is " + std::to_string(size->width) + "x" +
@@ -74,6 +75,38 @@ std::string dataset_file(const std::string& folder, DatasetFile file) {
 
 std::string image_path(const std::string& folder, const CameraIndexRow& row) {
   return (fs::path(folder) / "cam0" / "data" / row.filename).string();
+}
+
+namespace {
+
+// The image's path, through symbolic links, stays inside the dataset folder.
+Status inside_dataset(const std::string& folder, const std::string& path) {
+  std::error_code ec;
+  const fs::path root = fs::canonical(folder, ec);
+  if (ec) return Status::failure(folder + ": " + ec.message());
+  const fs::path target = fs::weakly_canonical(path, ec);
+  if (ec) return Status::failure(path + ": " + ec.message());
+  const auto [r, t] = std::mismatch(root.begin(), root.end(), target.begin(), target.end());
+  if (r != root.end()) {
+    return Status::failure(path + ": leads to " + target.string() +
+                           ", outside the dataset folder " + root.string() +
+                           " (a symbolic link out of it): refused");
+  }
+  return Status();
+}
+
+}  // namespace
+
+Status read_dataset_image(const std::string& folder, const std::string& path, GrayImage& out) {
+  Status s = inside_dataset(folder, path);
+  if (!s) return s;
+  return read_gray_image(path, out);
+}
+
+Result<ImageSize> read_dataset_image_size(const std::string& folder, const std::string& path) {
+  Status s = inside_dataset(folder, path);
+  if (!s) return Result<ImageSize>::failure(s.error());
+  return read_gray_image_size(path);
 }
 
 std::string Dataset::image_path(const CameraIndexRow& row) const {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cleanslam/readers/dataset.hpp"
+#include "cleanslam/readers/gray_image.hpp"
 
 namespace cleanslam::readers {
 
@@ -12,6 +13,11 @@ enum class DatasetFile { kGyro, kEncoders, kCamera, kFeatures, kLift, kGroundTru
 std::string dataset_file(const std::string& folder, DatasetFile file);
 // The path of the image of a row of cam0/data.csv.
 std::string image_path(const std::string& folder, const CameraIndexRow& row);
+// Reads the image of a row: refused when its path (through symbolic links) leads out of the
+// dataset folder, when it is not a regular file, and as read_gray_image refuses it.
+Status read_dataset_image(const std::string& folder, const std::string& path, GrayImage& out);
+// The size of the image of a row, refused as read_dataset_image refuses it.
+Result<ImageSize> read_dataset_image_size(const std::string& folder, const std::string& path);
 
 // What to do with each row of a dataset folder's files; an empty function skips the rows.
 struct RowVisitors {

@@ -211,7 +211,7 @@ bool DatasetSource::read(hal::SensorEvent& out) {
   out.frame.seq = static_cast<std::uint32_t>(next_frame_);
   if (f.has_camera) {
     const std::string path = image_path(summary_.folder, camera_row_);
-    Status st = read_gray_image(path, image_);
+    Status st = read_dataset_image(summary_.folder, path, image_);
     if (st && (image_.width != summary_.calibration.camera.width ||
                image_.height != summary_.calibration.camera.height)) {
       st = Status::failure(path + ": wrong image size");

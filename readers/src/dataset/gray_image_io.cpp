@@ -6,6 +6,7 @@
 #include <fstream>
 #include <memory>
 
+#include "cleanslam/readers/bounded_file.hpp"
 #include "cleanslam/readers/gray_image.hpp"
 
 namespace cleanslam::readers {
@@ -16,6 +17,11 @@ constexpr int kMaxSide = 16384;
 enum class Kind { kPgm, kPng, kUnknown };
 
 Kind sniff(const std::string& path, std::string& error) {
+  const Status bounded = check_bounded_file(path, kImageFileLimit);
+  if (!bounded) {
+    error = bounded.error();
+    return Kind::kUnknown;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     error = path + ": cannot open image";
@@ -92,6 +98,11 @@ Status png_begin(PngImage& png, const std::string& path) {
   }
   if ((png.image.format & (PNG_FORMAT_FLAG_COLOR | PNG_FORMAT_FLAG_LINEAR)) != 0) {
     return Status::failure(path + ": PNG is not 8-bit grayscale");
+  }
+  if ((png.image.format & PNG_FORMAT_FLAG_ALPHA) != 0) {
+    return Status::failure(path +
+                           ": PNG has an alpha channel (grey+alpha or transparency); the dataset "
+                           "format takes 8-bit grayscale without one");
   }
   if (png.image.width == 0 || png.image.height == 0 || png.image.width > kMaxSide ||
       png.image.height > kMaxSide) {

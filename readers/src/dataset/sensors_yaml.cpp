@@ -2,9 +2,11 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "cleanslam/hal/calibration_limits.hpp"
+#include "cleanslam/readers/bounded_file.hpp"
 #include "cleanslam/readers/dataset.hpp"
 #include "cleanslam/readers/yaml_document.hpp"
 
@@ -52,24 +54,20 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
     yaml::MappingReader cam = root.required_mapping("camera");
     const auto width = cam.required_int("width");
     const auto height = cam.required_int("height");
-    auto check_side = [&](std::int64_t v, const char* key) {
-      if (cam.has(key) && (v <= 0 || v > 16384)) {
-        diag.errors.push_back(file_name + ": " + cam.path(key) + ": " + std::to_string(v) +
-                              " is not a valid image size");
-      }
-    };
-    check_side(width, "width");
-    check_side(height, "height");
-    c.camera.width = static_cast<int>(std::clamp<std::int64_t>(width, 0, 16384));
-    c.camera.height = static_cast<int>(std::clamp<std::int64_t>(height, 0, 16384));
+    constexpr std::int64_t kIntMax = std::numeric_limits<int>::max();
+    c.camera.width = static_cast<int>(std::clamp<std::int64_t>(width, -1, kIntMax));
+    c.camera.height = static_cast<int>(std::clamp<std::int64_t>(height, -1, kIntMax));
     c.camera.fx = cam.required_double("fx");
     c.camera.fy = cam.required_double("fy");
     c.camera.cx = cam.required_double("cx");
     c.camera.cy = cam.required_double("cy");
-    check(cam, "fx", lim::kFocalPx);
-    check(cam, "fy", lim::kFocalPx);
-    check(cam, "cx", lim::kPrincipalPointPx);
-    check(cam, "cy", lim::kPrincipalPointPx);
+    if (diag.ok()) {
+      for (const auto& e : lim::camera_geometry_errors(c.camera, cam.path(""))) {
+        const yaml::Node* n = cam.node(e.key);
+        diag.errors.push_back((n != nullptr ? n->location.str() : file_name) + ": " +
+                              cam.path(e.key) + ": " + e.message);
+      }
+    }
     const auto dist = cam.optional_doubles("distortion", {0.0, 0.0, 0.0, 0.0}, 4);
     for (std::size_t i = 0; i < 4 && i < dist.size(); ++i) {
       c.camera.distortion[i] = dist[i];
@@ -137,13 +135,7 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
 
 Result<hal::Calibration> read_sensors_yaml(const std::string& path,
                                            std::vector<std::string>* warnings) {
-  auto doc_text = [&]() -> Result<std::string> {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return Result<std::string>::failure(path + ": cannot open file");
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }();
+  auto doc_text = read_bounded_file(path, kYamlFileLimit);
   if (!doc_text.ok()) return Result<hal::Calibration>::failure(doc_text.error());
   return parse_sensors_yaml(*doc_text, path, warnings);
 }

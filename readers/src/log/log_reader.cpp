@@ -1,9 +1,8 @@
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <numeric>
 
+#include "cleanslam/readers/bounded_file.hpp"
 #include "cleanslam/readers/log_source.hpp"
 
 namespace cleanslam::readers {
@@ -29,14 +28,12 @@ const char* to_string(LogDefect d) {
 }
 
 bool LogReader::open(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    error_ = path + ": cannot open";
+  auto bytes = read_bounded_bytes(path, kLogFileLimit);
+  if (!bytes.ok()) {
+    error_ = bytes.error();
     return false;
   }
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                  std::istreambuf_iterator<char>());
-  return open_bytes(std::move(bytes), path);
+  return open_bytes(std::move(bytes.value()), path);
 }
 
 bool LogReader::open_bytes(std::vector<std::uint8_t> bytes, const std::string& name) {

@@ -1,5 +1,6 @@
 #include "cleanslam/readers/yaml_document.hpp"
 
+#include "cleanslam/readers/bounded_file.hpp"
 #include "cleanslam/readers/nearest_key.hpp"
 
 #include <yaml.h>
@@ -206,23 +207,25 @@ Result<Node> parse_string(std::string_view text, std::string file_name) {
     if (type == YAML_STREAM_END_EVENT) break;
     if (type == YAML_STREAM_START_EVENT) continue;
     if (type == YAML_DOCUMENT_START_EVENT) {
-      if (in_document) break;
+      if (in_document) {
+        reader.fail(
+            "a second YAML document (after \"---\"): a file holds one document, and a reader "
+            "would take only the first; merge them into one");
+        return Result<Node>::failure(reader.error());
+      }
       in_document = true;
       continue;
     }
-    if (type == YAML_DOCUMENT_END_EVENT) break;
+    if (type == YAML_DOCUMENT_END_EVENT) continue;
     if (!build(reader, root, 0)) return Result<Node>::failure(reader.error());
   }
   return root;
 }
 
 Result<Node> parse_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Result<Node>::failure(path + ": cannot open file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return Result<Node>::failure(path + ": read error");
-  return parse_string(text.str(), path);
+  auto text = read_bounded_file(path, kYamlFileLimit);
+  if (!text.ok()) return Result<Node>::failure(text.error());
+  return parse_string(*text, path);
 }
 
 Result<double> as_double(const Node& node, std::string_view key) {

@@ -123,6 +123,21 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
     return R::failure(sc.name + ": the path takes " + std::to_string(std::lround(duration)) +
                       " s, more than a day: set duration_s, or a smaller world.size or path");
   }
+  if (sc.duration_s > duration + 1e-6) {
+    // A path that ends early would leave the dataset short without a word; it does not repeat
+    // unless path.repeats says so.
+    char end_s[32];
+    std::snprintf(end_s, sizeof end_s, "%.1f", std::floor(duration * 10.0) / 10.0);
+    std::string fix = std::string("set duration_s to at most ") + end_s;
+    if (sc.path.type == "boustrophedon") {
+      const double pass_s = duration / std::max(1, sc.path.repeats);
+      fix += ", or path.repeats to " +
+             std::to_string(static_cast<long>(std::ceil(sc.duration_s / pass_s))) +
+             " (the lanes driven again, " + std::to_string(std::lround(pass_s)) + " s a pass)";
+    }
+    return R::failure(sc.name + ": duration_s " + std::to_string(std::lround(sc.duration_s)) +
+                      " s is longer than the path, which ends at " + end_s + " s: " + fix);
+  }
 
   DatasetWriter writer;
   readers::Status s =

@@ -42,6 +42,9 @@ void write_dataset(const fs::path& dir, std::int64_t seconds) {
   hal::Calibration cal;
   cal.camera.width = 32;
   cal.camera.height = 24;
+  cal.camera.fx = cal.camera.fy = 28.0;  // the default field of view on this small image
+  cal.camera.cx = 15.5;
+  cal.camera.cy = 11.5;
   std::ofstream(dir / "sensors.yaml") << readers::sensors_yaml_text(cal);
   {
     std::ofstream pgm(dir / "cam0" / "data" / "f.pgm", std::ios::binary);

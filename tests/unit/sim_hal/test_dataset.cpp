@@ -71,6 +71,10 @@ void make_dataset(const std::string& folder, int width = 32, int height = 24,
   hal::Calibration cal;
   cal.camera.width = width;
   cal.camera.height = height;
+  // The default camera's field of view and principal point, scaled to this image.
+  cal.camera.fx = cal.camera.fy = 280.0 * width / 320.0;
+  cal.camera.cx = 0.5 * (width - 1);
+  cal.camera.cy = 0.5 * (height - 1);
   DatasetWriter w;
   ASSERT_TRUE(w.open(folder, cal, format).ok());
   for (int i = 0; i < 100; ++i) {
@@ -254,7 +258,7 @@ TEST(Dataset, WrongImageSize) {
 TEST(Dataset, MissingRequiredYamlKey) {
   TempDir dir;
   make_dataset(dir.str());
-  replace_in_file(dir.path() / "sensors.yaml", "  fy: 280.0\n", "");
+  replace_in_file(dir.path() / "sensors.yaml", "  fy: 28.0\n", "");
   std::string e = load_error(dir.str());
   EXPECT_TRUE(contains(e, "sensors.yaml:2: camera.fy: missing required key")) << e;
   replace_in_file(dir.path() / "sensors.yaml", "  wheel_base: 0.235\n", "  wheel_base: wide\n");
@@ -298,8 +302,19 @@ TEST(Dataset, CalibrationNumbersOutsideTheirLimitsAreRefused) {
       {"pixel_noise: 0.5", "pixel_noise: -3", "camera.pixel_noise: -3 is out of range (0, 100]"},
       {"time_offset_s: 0.0", "time_offset_s: 1e12",
        "camera.time_offset_s: 1e+12 is out of range [-1, 1]"},
-      {"fx: 280.0", "fx: 1e300", "camera.fx: 1e+300 is out of range (0, 100000]"},
-      {"cx: 159.5", "cx: -1e300", "camera.cx: -1e+300 is out of range [-10000, 10000]"},
+      {"fx: 280.0", "fx: 1e300", "camera.fx: 1e+300 is out of range [42.87, 1829]"},
+      {"cx: 159.5", "cx: -1e300", "camera.cx: -1e+300 is out of range [-0.5, 319.5]"},
+      {"fx: 280.0", "fx: 1e-6",
+       "camera.fx: 1e-06 is out of range [42.87, 1829]: the field of view across camera.width "
+       "320 px must be 10 to 150 degrees"},
+      {"cx: 159.5", "cx: 1e4",
+       "camera.cx: 10000 is out of range [-0.5, 319.5]: the principal point must be inside the "
+       "image (camera.width 320 px)"},
+      {"width: 320", "width: 16384",
+       "camera.width: 16384 is out of range [1, 320]: the front end takes images of at most "
+       "320x240 pixels"},
+      {"ticks_per_meter_left: 4000.0", "ticks_per_meter_left: 1e-300",
+       "wheels.ticks_per_meter_left: 1e-300 is out of range [100, 1e+07]"},
       {"distortion: [0.0, 0.0, 0.0, 0.0]", "distortion: [0.0, 0.0, 1e300, 0.0]",
        "camera.distortion: 1e+300 is out of range [-100, 100]"},
       {"wheel_base: 0.235", "wheel_base: 0", "wheels.wheel_base: 0 is out of range (0, 10]"},
@@ -312,7 +327,7 @@ TEST(Dataset, CalibrationNumbersOutsideTheirLimitsAreRefused) {
   };
   for (const auto& c : cases) {
     TempDir dir;
-    make_dataset(dir.str());
+    make_dataset(dir.str(), 320, 240);
     replace_in_file(dir.path() / "sensors.yaml", c.written, c.replaced_by);
     const std::string e = load_error(dir.str());
     EXPECT_TRUE(contains(e, "sensors.yaml:")) << e;

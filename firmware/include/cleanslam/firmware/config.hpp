@@ -7,6 +7,7 @@
 #include "cleanslam/firmware/loop.hpp"
 #include "cleanslam/firmware/map_store.hpp"
 #include "cleanslam/firmware/recorder.hpp"
+#include "cleanslam/firmware/rotating_file.hpp"
 #include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/readers/result.hpp"
 #include "cleanslam/slam_core/parameter_table.hpp"
@@ -29,6 +30,8 @@ struct SinkSettings {
   std::string diagnostics_path;        // per-update records (CSV); empty: none
   bool can = false;                    // CAN pose frame through the driver
   std::string can_interface = "can0";  // pose frames 0x201/0x202 of docs/can.md
+  // The TUM file, its .cov and the diagnostics rotate as the recorder's log does.
+  Rotation rotation{std::size_t{64} << 20, 4};
 };
 
 // The robot's GPIO wiring (lines of source.gpio_chip). What the wheel-drop switch means

@@ -24,11 +24,13 @@ struct RecorderOptions {
 
 struct RecorderStats {
   std::uint64_t records = 0;
-  std::uint64_t dropped_buffer_full = 0;  // the disk did not keep up
-  std::uint64_t frames_skipped = 0;       // frame_every > 1
+  std::uint64_t dropped_buffer_full = 0;   // the disk did not keep up
+  std::uint64_t dropped_write_failed = 0;  // the buffer was full because writing failed
+  std::uint64_t frames_skipped = 0;        // frame_every > 1
   std::uint64_t bytes_written = 0;
   std::uint64_t rotations = 0;
   std::uint64_t write_errors = 0;
+  int first_write_errno = 0;  // the errno of the first failed write, rotation or sync
 };
 
 // The binary log (hal/log_format.hpp). Appending copies a record into a ring buffer allocated
@@ -61,6 +63,9 @@ class Recorder {
   [[nodiscard]] const RecorderStats& stats() const { return stats_; }
   [[nodiscard]] std::size_t pending_bytes() const { return size_; }
   [[nodiscard]] bool frames_complete() const { return options_.frame_every == 1; }
+  // After close(): "PATH: cannot write: STRERROR; N records dropped, M bytes never written" when
+  // a write failed, else "".
+  [[nodiscard]] std::string write_error() const;
 
  private:
   template <typename Encode>
@@ -68,6 +73,7 @@ class Recorder {
   void push(const std::uint8_t* data, std::size_t n);
   bool open_file(std::uint32_t file_index);
   void rotate();
+  void write_failed(int e);
   std::size_t write_segment(std::size_t max_bytes);
 
   RecorderOptions options_;
@@ -82,6 +88,8 @@ class Recorder {
   std::uint64_t frames_seen_ = 0;
   int fd_ = -1;
   bool rotating_ = false;
+  bool failing_ = false;    // the last write failed: a full buffer is its consequence
+  bool rotatable_ = false;  // a regular file (a device such as /dev/null is never renamed)
   RecorderStats stats_;
 };
 

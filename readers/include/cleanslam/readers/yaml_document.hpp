@@ -53,7 +53,8 @@ struct Node::Entry {
   Node value;
 };
 
-// Parses the first document of a YAML text. `file_name` is used in messages.
+// Parses the one document of a YAML text; a second document is an error. `file_name` is used in
+// messages.
 Result<Node> parse_string(std::string_view text, std::string file_name = "<string>");
 // Parses a file; messages name `path` as given.
 Result<Node> parse_file(const std::string& path);
