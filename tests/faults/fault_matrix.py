@@ -167,8 +167,9 @@ class Case:
 
 
 # --- the map file: two writers, a symlinked path, implausible values (issue 45: 1, 6, 9) --------
-# A map case's args is a runner (marked runs_itself): it runs its own programs and returns what run()
-# returns, with the exit code replaced by a text saying what failed when the files it leaves are not as they must be.
+# A map case's args is a runner (marked runs_itself): it runs its own programs and returns what
+# run() returns, with the exit code replaced by a text saying what failed when the files it leaves
+# are not as they must be.
 MAP_HEADER, MAP_RECORD = 64, 3964
 MAP_SAVE = ["--set", "map.save_interval_s=0.2"]
 
