@@ -1,4 +1,5 @@
 #include "cleanslam/firmware/recorder.hpp"
+#include "cleanslam/firmware/rotating_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -29,11 +30,7 @@ bool Recorder::open(const RecorderOptions& options, std::string_view config_text
     error = options_.path + ": configuration too large to record";
     return false;
   }
-  names_.clear();
-  names_.push_back(options_.path);
-  for (int i = 1; i < options_.max_files; ++i) {
-    names_.push_back(options_.path + "." + std::to_string(i));
-  }
+  names_ = rotation_names(options_.path, options_.max_files);
   ring_.assign(std::max<std::size_t>(options_.buffer_bytes, 128U << 10), 0);
   scratch_.assign(lf::kMaxPayload + lf::kRecordHeaderSize, 0);
   head_ = 0;
@@ -190,12 +187,7 @@ void Recorder::rotate() {
   flush(false);
   ::close(fd_);
   fd_ = -1;
-  if (names_.size() > 1) {
-    ::unlink(names_.back().c_str());
-    for (std::size_t i = names_.size() - 1; i > 0; --i) {
-      ::rename(names_[i - 1].c_str(), names_[i].c_str());
-    }
-  }
+  shift_rotation_names(names_);
   if (!open_file(static_cast<std::uint32_t>(stats_.rotations + 1))) {
     write_failed(errno);
   }

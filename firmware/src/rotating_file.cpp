@@ -10,6 +10,24 @@
 
 namespace cleanslam::firmware {
 
+std::vector<std::string> rotation_names(const std::string& path, int files) {
+  std::vector<std::string> names{path};
+  for (int i = 1; i < files; ++i) {
+    names.push_back(path + "." + std::to_string(i));
+  }
+  return names;
+}
+
+void shift_rotation_names(const std::vector<std::string>& names) {
+  if (names.size() < 2) {
+    return;
+  }
+  ::unlink(names.back().c_str());
+  for (std::size_t i = names.size() - 1; i > 0; --i) {
+    ::rename(names[i - 1].c_str(), names[i].c_str());
+  }
+}
+
 RotatingFile::~RotatingFile() {
   (void)close();
 }
@@ -20,11 +38,7 @@ bool RotatingFile::open(const std::string& path, Rotation rotation, std::string&
   if (rotation_.max_files < 1) {
     rotation_.max_files = 1;
   }
-  names_.clear();
-  names_.push_back(path);
-  for (int i = 1; i < rotation_.max_files; ++i) {
-    names_.push_back(path + "." + std::to_string(i));
-  }
+  names_ = rotation_names(path, rotation_.max_files);
   bytes_ = 0;
   rotations_ = 0;
   errno_ = 0;
@@ -68,12 +82,7 @@ void RotatingFile::rotate(const char* header) {
   if (std::fflush(file_) != 0) {
     fail(errno);
   }
-  if (names_.size() > 1) {
-    ::unlink(names_.back().c_str());
-    for (std::size_t i = names_.size() - 1; i > 0; --i) {
-      ::rename(names_[i - 1].c_str(), names_[i].c_str());
-    }
-  }
+  shift_rotation_names(names_);
   // A new file under the same FILE and buffer: nothing is allocated.
   const int fd = ::open(names_[0].c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0 || ::dup2(fd, ::fileno(file_)) < 0) {

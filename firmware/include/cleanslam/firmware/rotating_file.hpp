@@ -17,6 +17,11 @@ struct Rotation {
   int max_files = 1;  // PATH, PATH.1 ... PATH.(max_files-1); 1: PATH is truncated instead
 };
 
+// PATH, PATH.1 ... PATH.(files-1): built once at open, so that a rotation allocates nothing.
+std::vector<std::string> rotation_names(const std::string& path, int files);
+// Deletes the oldest name and renames each to the next (PATH.1 to PATH.2, ..., PATH to PATH.1).
+void shift_rotation_names(const std::vector<std::string>& names);
+
 // A text output file (TUM, its covariance side file, diagnostics CSV) written through stdio with
 // a buffer allocated at open(): bounded by its Rotation, and keeping the first write error (the
 // file and strerror) instead of losing it in the stdio buffer. A file that is not a regular one
