@@ -253,7 +253,10 @@ def symlinked_map(dataset, dangling):
             code, err, _ = run([prog("cleanslam"), "--dataset", dataset, "--set",
                                 "map.path=" + target])
             assert code == 0, err
-            before = os.stat(target).st_ino
+            # Saves replace the file by a rename, and a later save's file may reuse a freed
+            # inode number: the inode and the modification time together tell a new file.
+            st = os.stat(target)
+            before = (st.st_ino, st.st_mtime_ns)
         code, err, secs = run([prog("cleanslam"), "--dataset", dataset, "--set",
                                "map.path=" + link] + MAP_SAVE)
         ok, what = map_file_state(target)
@@ -262,7 +265,8 @@ def symlinked_map(dataset, dangling):
             problems.append("map.bin is no longer a link")
         if not ok:
             problems.append("the link's target %s" % what)
-        if before is not None and os.stat(target).st_ino == before:
+        st = os.stat(target) if os.path.exists(target) else None
+        if before is not None and st is not None and (st.st_ino, st.st_mtime_ns) == before:
             problems.append("the target was not replaced by a new map")
         if map_temporaries(store, "real.bin") or map_temporaries(folder):
             problems.append("temporaries left")
