@@ -12,7 +12,7 @@
 namespace cleanslam::drivers {
 namespace {
 
-constexpr std::string_view kComponent = "can";
+constexpr std::string_view kCanComponent = "can";
 
 hal::TimeNs timespec_ns(const timespec& ts) {
   return static_cast<hal::TimeNs>(ts.tv_sec) * hal::kNsPerSecond + ts.tv_nsec;
@@ -43,7 +43,7 @@ bool CanBaseBoard::open_socket() {
   const unsigned int index = os_.if_nametoindex(name);
   if (index == 0) {
     ++stats_.open_failures;
-    reportf(diagnostics_, Severity::kError, kComponent,
+    reportf(diagnostics_, Severity::kError, kCanComponent,
             "interface '%s' not found (%s): is the CAN driver loaded and the link configured "
             "('ip link set %s up type can bitrate 500000')? Running without odometry",
             name, std::strerror(errno), name);
@@ -52,7 +52,7 @@ bool CanBaseBoard::open_socket() {
   const int s = os_.socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK, CAN_RAW);
   if (s < 0) {
     ++stats_.open_failures;
-    reportf(diagnostics_, Severity::kError, kComponent,
+    reportf(diagnostics_, Severity::kError, kCanComponent,
             "cannot open a raw CAN socket (%s): is the can-raw module available?",
             std::strerror(errno));
     return false;
@@ -71,7 +71,7 @@ bool CanBaseBoard::open_socket() {
       os_.setsockopt(s, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) < 0 ||
       os_.bind(s, reinterpret_cast<const sockaddr*>(&address), sizeof address) < 0) {
     ++stats_.open_failures;
-    reportf(diagnostics_, Severity::kError, kComponent,
+    reportf(diagnostics_, Severity::kError, kCanComponent,
             "cannot set up the raw socket on '%s' (filters, time stamps, bind): %s", name,
             std::strerror(errno));
     os_.close(s);
@@ -84,7 +84,7 @@ bool CanBaseBoard::open_socket() {
   encoder_seq_.reset();
   gyro_seq_.reset();
   if (stats_.opens > 1 || stats_.open_failures > 0) {
-    reportf(diagnostics_, Severity::kInfo, kComponent, "listening on '%s' again", name);
+    reportf(diagnostics_, Severity::kInfo, kCanComponent, "listening on '%s' again", name);
   }
   return true;
 }
@@ -126,7 +126,7 @@ bool CanBaseBoard::read(hal::SensorEvent& out) {
         return false;
       }
       ++stats_.receive_errors;
-      reportf(diagnostics_, Severity::kError, kComponent,
+      reportf(diagnostics_, Severity::kError, kCanComponent,
               "receive on '%s' failed (%s): closing, reopening with back-off",
               config_.interface.c_str(), std::strerror(errno));
       close_socket();
@@ -149,7 +149,7 @@ bool CanBaseBoard::read(hal::SensorEvent& out) {
     if (static_cast<std::size_t>(n) < sizeof raw) {
       ++stats_.wrong_length;
       if (malformed_limit_.allow(mono_now)) {
-        reportf(diagnostics_, Severity::kWarning, kComponent,
+        reportf(diagnostics_, Severity::kWarning, kCanComponent,
                 "short read of %zd bytes from '%s' (expected %zu): dropped", n,
                 config_.interface.c_str(), sizeof raw);
       }
@@ -185,7 +185,7 @@ bool CanBaseBoard::sequence_ok(can_map::SequenceTracker& tracker, std::uint8_t s
     case Result::kGap:
       dropped += tracker.last_gap();
       if (gap_limit_.allow(now)) {
-        reportf(diagnostics_, Severity::kWarning, kComponent,
+        reportf(diagnostics_, Severity::kWarning, kCanComponent,
                 "%u %s frame(s) missing before sequence %u (%llu missing so far)",
                 tracker.last_gap(), what, static_cast<unsigned>(seq),
                 static_cast<unsigned long long>(dropped));
@@ -194,14 +194,14 @@ bool CanBaseBoard::sequence_ok(can_map::SequenceTracker& tracker, std::uint8_t s
     case Result::kDuplicate:
       ++stats_.duplicates;
       if (gap_limit_.allow(now)) {
-        reportf(diagnostics_, Severity::kWarning, kComponent,
+        reportf(diagnostics_, Severity::kWarning, kCanComponent,
                 "%s frame with repeated sequence %u: dropped", what, static_cast<unsigned>(seq));
       }
       return false;
     case Result::kOutOfOrder:
       ++stats_.out_of_order;
       if (gap_limit_.allow(now)) {
-        reportf(diagnostics_, Severity::kWarning, kComponent,
+        reportf(diagnostics_, Severity::kWarning, kCanComponent,
                 "%s sequence jumped back to %u (board reset or reordering): resynchronized", what,
                 static_cast<unsigned>(seq));
       }
@@ -216,7 +216,7 @@ bool CanBaseBoard::handle_frame(const can_map::Frame& frame, hal::TimeNs t_ns,
   if (!ours) {
     ++stats_.unknown_id;
     if (malformed_limit_.allow(t_ns)) {
-      reportf(diagnostics_, Severity::kWarning, kComponent,
+      reportf(diagnostics_, Severity::kWarning, kCanComponent,
               "frame with unknown id 0x%X on '%s' (expected 0x%X or 0x%X): dropped", frame.id,
               config_.interface.c_str(), can_map::kEncoderId, can_map::kGyroId);
     }
@@ -225,7 +225,7 @@ bool CanBaseBoard::handle_frame(const can_map::Frame& frame, hal::TimeNs t_ns,
   if (frame.length != can_map::kFrameLength) {
     ++stats_.wrong_length;
     if (malformed_limit_.allow(t_ns)) {
-      reportf(diagnostics_, Severity::kWarning, kComponent,
+      reportf(diagnostics_, Severity::kWarning, kCanComponent,
               "frame 0x%X has %u data bytes, expected %u: dropped", frame.id,
               static_cast<unsigned>(frame.length), static_cast<unsigned>(can_map::kFrameLength));
     }
@@ -280,7 +280,7 @@ void CanBaseBoard::note_recovered(hal::TimeNs t_ns, const char* how) {
   ++stats_.bus_off_recovered;
   encoder_seq_.reset();
   gyro_seq_.reset();
-  reportf(diagnostics_, Severity::kInfo, kComponent,
+  reportf(diagnostics_, Severity::kInfo, kCanComponent,
           "'%s' recovered from bus-off after %.3f s (%s)", config_.interface.c_str(),
           hal::to_seconds(t_ns - bus_off_since_ns_), how);
 }
@@ -293,7 +293,7 @@ void CanBaseBoard::handle_error_frame(std::uint32_t can_id, const can_map::Frame
     if (!bus_off_) {
       bus_off_ = true;
       bus_off_since_ns_ = t_ns;
-      reportf(diagnostics_, Severity::kError, kComponent,
+      reportf(diagnostics_, Severity::kError, kCanComponent,
               "'%s' is bus-off: no odometry until the controller restarts (configure "
               "'ip link set %s type can restart-ms 100')",
               config_.interface.c_str(), config_.interface.c_str());
@@ -310,7 +310,7 @@ void CanBaseBoard::handle_error_frame(std::uint32_t can_id, const can_map::Frame
     ++stats_.controller_errors;
   }
   if (error_limit_.allow(t_ns)) {
-    reportf(diagnostics_, Severity::kWarning, kComponent,
+    reportf(diagnostics_, Severity::kWarning, kCanComponent,
             "error frame on '%s': class 0x%X, controller 0x%02X, protocol 0x%02X/0x%02X "
             "(%llu error frames so far)",
             config_.interface.c_str(), static_cast<unsigned>(can_id & CAN_ERR_MASK),

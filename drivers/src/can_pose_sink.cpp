@@ -11,7 +11,7 @@
 
 namespace cleanslam::drivers {
 namespace {
-constexpr std::string_view kComponent = "can-pose";
+constexpr std::string_view kPoseSinkComponent = "can-pose";
 }
 
 CanPoseSink::CanPoseSink(std::string interface, Os& os, Diagnostics& diagnostics)
@@ -36,7 +36,7 @@ bool CanPoseSink::open_socket() {
                   os_.bind(s, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
   if (!ok) {
     ++stats_.open_failures;
-    reportf(diagnostics_, Severity::kError, kComponent,
+    reportf(diagnostics_, Severity::kError, kPoseSinkComponent,
             "cannot open interface '%s' for pose frames (%s): poses are not sent on CAN",
             interface_.c_str(), std::strerror(errno));
     if (s >= 0) {
@@ -63,7 +63,7 @@ bool CanPoseSink::send(std::uint32_t id, const std::uint8_t* data) {
   ++stats_.frames_dropped;
   const int error = errno;
   if (drop_limit_.allow(os_.monotonic_now())) {
-    reportf(diagnostics_, Severity::kWarning, kComponent,
+    reportf(diagnostics_, Severity::kWarning, kPoseSinkComponent,
             "pose frame 0x%X not sent on '%s' (%s); %llu dropped so far", id, interface_.c_str(),
             n < 0 ? std::strerror(error) : "short write",
             static_cast<unsigned long long>(stats_.frames_dropped));

@@ -12,7 +12,7 @@
 namespace cleanslam::drivers {
 namespace {
 
-constexpr std::string_view kComponent = "camera";
+constexpr std::string_view kCameraComponent = "camera";
 constexpr int kWidth = hal::kImageWidth;
 constexpr int kHeight = hal::kImageHeight;
 
@@ -49,12 +49,12 @@ V4l2Camera::V4l2Camera(V4l2CameraConfig config, Os& os, Diagnostics& diagnostics
       backoff_(config_.reopen_min_ns, config_.reopen_max_ns),
       image_(static_cast<std::size_t>(kWidth * kHeight)) {
   if (!(config_.rate_hz > 0.0 && config_.rate_hz <= 60.0)) {
-    reportf(diagnostics_, Severity::kWarning, kComponent,
+    reportf(diagnostics_, Severity::kWarning, kCameraComponent,
             "rate_hz = %g is outside (0, 60]: using 2 Hz", config_.rate_hz);
     config_.rate_hz = 2.0;
   }
   if (!(config_.device_fps > 0.0 && config_.device_fps <= 240.0)) {
-    reportf(diagnostics_, Severity::kWarning, kComponent,
+    reportf(diagnostics_, Severity::kWarning, kCameraComponent,
             "device_fps = %g is outside (0, 240]: using 5", config_.device_fps);
     config_.device_fps = 5.0;
   }
@@ -62,7 +62,7 @@ V4l2Camera::V4l2Camera(V4l2CameraConfig config, Os& os, Diagnostics& diagnostics
     config_.max_scale = 1;
   }
   if (config_.buffers < 2) {
-    reportf(diagnostics_, Severity::kWarning, kComponent,
+    reportf(diagnostics_, Severity::kWarning, kCameraComponent,
             "buffers = %d is too few for streaming: using 2", config_.buffers);
     config_.buffers = 2;
   }
@@ -98,7 +98,7 @@ bool V4l2Camera::open_device() {
   fd_ = os_.open(path, O_RDWR | O_NONBLOCK);
   if (fd_ < 0) {
     ++stats_.open_failures;
-    reportf(diagnostics_, Severity::kError, kComponent,
+    reportf(diagnostics_, Severity::kError, kCameraComponent,
             "cannot open camera '%s' (%s); running without vision, retrying with back-off", path,
             std::strerror(errno));
     return false;
@@ -112,7 +112,7 @@ bool V4l2Camera::open_device() {
   backoff_.reset();
   has_device_seq_ = false;
   readiness_.watch(fd_);
-  reportf(diagnostics_, Severity::kInfo, kComponent,
+  reportf(diagnostics_, Severity::kInfo, kCameraComponent,
           "'%s' streaming %s %dx%d%s at %.3g fps, %zu buffers, delivering %.3g Hz", path,
           fourcc_name(format_.fourcc).c_str(), format_.width, format_.height,
           format_.scale > 1 ? " (reduced to 320x240)" : "", format_.fps, buffers_.size(),
@@ -124,14 +124,14 @@ bool V4l2Camera::negotiate() {
   const char* path = config_.device.c_str();
   v4l2_capability cap{};
   if (os_.ioctl(fd_, VIDIOC_QUERYCAP, &cap) < 0) {
-    reportf(diagnostics_, Severity::kError, kComponent,
+    reportf(diagnostics_, Severity::kError, kCameraComponent,
             "'%s' is not a V4L2 device (VIDIOC_QUERYCAP: %s)", path, std::strerror(errno));
     return false;
   }
   const std::uint32_t caps =
       (cap.capabilities & V4L2_CAP_DEVICE_CAPS) != 0 ? cap.device_caps : cap.capabilities;
   if ((caps & V4L2_CAP_VIDEO_CAPTURE) == 0 || (caps & V4L2_CAP_STREAMING) == 0) {
-    reportf(diagnostics_, Severity::kError, kComponent,
+    reportf(diagnostics_, Severity::kError, kCameraComponent,
             "'%s' (card '%s', driver '%s') is not a single-planar streaming capture device "
             "(capabilities 0x%08X; need VIDEO_CAPTURE 0x1 and STREAMING 0x4000000)",
             path, reinterpret_cast<const char*>(cap.card),
@@ -162,7 +162,7 @@ bool V4l2Camera::negotiate() {
     fourcc = V4L2_PIX_FMT_YUYV;
   }
   if (fourcc == 0) {
-    reportf(diagnostics_, Severity::kError, kComponent,
+    reportf(diagnostics_, Severity::kError, kCameraComponent,
             "'%s' (card '%s') refuses the format: asked for %s, the device offers: %s", path,
             reinterpret_cast<const char*>(cap.card), want == "auto" ? "GREY or YUYV" : want.c_str(),
             offered.empty() ? "no formats" : offered.c_str());
@@ -214,7 +214,7 @@ bool V4l2Camera::negotiate() {
     best = Size{kWidth, kHeight};  // the driver does not enumerate: ask and see
   }
   if (enumerated && best_scale == 0) {
-    reportf(diagnostics_, Severity::kError, kComponent,
+    reportf(diagnostics_, Severity::kError, kCameraComponent,
             "'%s' refuses the format: asked for %s 320x240 or an integer multiple up to x%d, "
             "the device offers %s",
             path, fourcc_name(fourcc).c_str(), config_.max_scale, sizes.c_str());
@@ -228,7 +228,7 @@ bool V4l2Camera::negotiate() {
   fmt.fmt.pix.pixelformat = fourcc;
   fmt.fmt.pix.field = V4L2_FIELD_NONE;
   if (os_.ioctl(fd_, VIDIOC_S_FMT, &fmt) < 0) {
-    reportf(diagnostics_, Severity::kError, kComponent,
+    reportf(diagnostics_, Severity::kError, kCameraComponent,
             "'%s' refuses the format: VIDIOC_S_FMT %s %dx%d failed (%s); the device offers %s "
             "in %s",
             path, fourcc_name(fourcc).c_str(), best.width, best.height, std::strerror(errno),
@@ -241,7 +241,7 @@ bool V4l2Camera::negotiate() {
   if (fmt.fmt.pix.pixelformat != fourcc || scale == 0 ||
       (fmt.fmt.pix.field != V4L2_FIELD_NONE && fmt.fmt.pix.field != V4L2_FIELD_ANY) ||
       static_cast<int>(fmt.fmt.pix.bytesperline) < got.width * bytes_per_pixel) {
-    reportf(diagnostics_, Severity::kError, kComponent,
+    reportf(diagnostics_, Severity::kError, kCameraComponent,
             "'%s' refuses the format: asked for %s %dx%d progressive, the device set %s %dx%d "
             "(field %u, %u bytes per line); it offers %s in %s",
             path, fourcc_name(fourcc).c_str(), best.width, best.height,
@@ -264,12 +264,12 @@ bool V4l2Camera::negotiate() {
     format_.fps = static_cast<double>(parm.parm.capture.timeperframe.denominator) /
                   static_cast<double>(parm.parm.capture.timeperframe.numerator);
     if (format_.fps + 1e-6 < config_.rate_hz) {
-      reportf(diagnostics_, Severity::kWarning, kComponent,
+      reportf(diagnostics_, Severity::kWarning, kCameraComponent,
               "'%s' streams at %.3g fps (asked %.3g), below the configured %.3g Hz", path,
               format_.fps, config_.device_fps, config_.rate_hz);
     }
   } else {
-    reportf(diagnostics_, Severity::kInfo, kComponent,
+    reportf(diagnostics_, Severity::kInfo, kCameraComponent,
             "'%s' does not set its frame interval (%s): frames beyond %.3g Hz are dropped", path,
             std::strerror(errno), config_.rate_hz);
   }
@@ -283,7 +283,7 @@ bool V4l2Camera::start_streaming() {
   req.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   req.memory = V4L2_MEMORY_MMAP;
   if (os_.ioctl(fd_, VIDIOC_REQBUFS, &req) < 0 || req.count < 2) {
-    reportf(diagnostics_, Severity::kError, kComponent,
+    reportf(diagnostics_, Severity::kError, kCameraComponent,
             "'%s' gives no memory-mapped streaming with %d buffers (VIDIOC_REQBUFS: %s, %u "
             "granted; at least 2 needed)",
             path, config_.buffers, std::strerror(errno), static_cast<unsigned>(req.count));
@@ -295,28 +295,28 @@ bool V4l2Camera::start_streaming() {
     buf.memory = V4L2_MEMORY_MMAP;
     buf.index = i;
     if (os_.ioctl(fd_, VIDIOC_QUERYBUF, &buf) < 0) {
-      reportf(diagnostics_, Severity::kError, kComponent, "'%s': VIDIOC_QUERYBUF %u failed (%s)",
-              path, i, std::strerror(errno));
+      reportf(diagnostics_, Severity::kError, kCameraComponent,
+              "'%s': VIDIOC_QUERYBUF %u failed (%s)", path, i, std::strerror(errno));
       return false;
     }
     void* data = os_.mmap(buf.length, PROT_READ | PROT_WRITE, MAP_SHARED, fd_,
                           static_cast<off_t>(buf.m.offset));
     if (data == MAP_FAILED) {
-      reportf(diagnostics_, Severity::kError, kComponent, "'%s': mmap of buffer %u failed (%s)",
-              path, i, std::strerror(errno));
+      reportf(diagnostics_, Severity::kError, kCameraComponent,
+              "'%s': mmap of buffer %u failed (%s)", path, i, std::strerror(errno));
       return false;
     }
     buffers_.push_back(Buffer{data, buf.length});
     if (os_.ioctl(fd_, VIDIOC_QBUF, &buf) < 0) {
-      reportf(diagnostics_, Severity::kError, kComponent, "'%s': VIDIOC_QBUF %u failed (%s)", path,
-              i, std::strerror(errno));
+      reportf(diagnostics_, Severity::kError, kCameraComponent, "'%s': VIDIOC_QBUF %u failed (%s)",
+              path, i, std::strerror(errno));
       return false;
     }
   }
   int type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   if (os_.ioctl(fd_, VIDIOC_STREAMON, &type) < 0) {
-    reportf(diagnostics_, Severity::kError, kComponent, "'%s': VIDIOC_STREAMON failed (%s)", path,
-            std::strerror(errno));
+    reportf(diagnostics_, Severity::kError, kCameraComponent, "'%s': VIDIOC_STREAMON failed (%s)",
+            path, std::strerror(errno));
     return false;
   }
   streaming_ = true;
@@ -326,8 +326,9 @@ bool V4l2Camera::start_streaming() {
 void V4l2Camera::fail_and_reopen(const char* what, int error) {
   ++stats_.stream_errors;
   const hal::TimeNs delay = backoff_.next();
-  reportf(diagnostics_, Severity::kError, kComponent, "'%s': %s (%s); closing, reopening in %.2f s",
-          config_.device.c_str(), what, std::strerror(error), hal::to_seconds(delay));
+  reportf(diagnostics_, Severity::kError, kCameraComponent,
+          "'%s': %s (%s); closing, reopening in %.2f s", config_.device.c_str(), what,
+          std::strerror(error), hal::to_seconds(delay));
   close_device();
   readiness_.arm_timer(delay);
 }
@@ -381,7 +382,7 @@ bool V4l2Camera::read(hal::SensorEvent& out) {
       }
     } else if (!warned_timestamps_) {
       warned_timestamps_ = true;
-      reportf(diagnostics_, Severity::kWarning, kComponent,
+      reportf(diagnostics_, Severity::kWarning, kCameraComponent,
               "'%s' gives no monotonic time stamps (flags 0x%X): using the dequeue time",
               config_.device.c_str(), static_cast<unsigned>(buf.flags));
     }

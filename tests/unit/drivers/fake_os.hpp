@@ -15,8 +15,11 @@
 
 #include "cleanslam/drivers/diagnostics.hpp"
 #include "cleanslam/drivers/os.hpp"
+#include "time_units.hpp"
 
 namespace cleanslam::drivers::testing {
+
+using cleanslam::test::kMs;
 
 // A fake kernel at the system-call seam: sockets fed from queues, clocks set by the test.
 class FakeOs : public Os {

@@ -11,8 +11,8 @@ namespace {
 
 using testing::FakeGpio;
 using testing::FakeOs;
+using testing::kMs;
 using testing::RecordingDiagnostics;
-constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
 
 class GpioTest : public ::testing::Test {
  protected:

@@ -89,7 +89,7 @@ TEST(RobotDrivers, GyroFramesTakeTheDataReadyEdgeTimeElseTheCanTime) {
   ASSERT_NE(d.gyro_ready(), nullptr);
   ASSERT_TRUE(d.gyro_ready()->available()) << diag.all();
   EXPECT_FALSE(d.inputs_missing());
-  constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
+  using testing::kMs;
   const hal::TimeNs t0 = os.mono_ns;
   gpio.edge("gpiochip0", 2, true, t0 - 3 * kMs);
   receive_gyro(os, 0, 1 * kMs);  // received 2 ms after the edge

@@ -10,8 +10,8 @@ namespace cleanslam::drivers {
 namespace {
 
 using testing::FakeV4l2;
+using testing::kMs;
 using testing::RecordingDiagnostics;
-constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
 
 int pattern(int x, int y) {
   return (x * 3 + y * 7) % 251;

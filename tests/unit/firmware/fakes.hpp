@@ -7,8 +7,14 @@
 #include "cleanslam/firmware/estimator.hpp"
 #include "cleanslam/firmware/loop.hpp"
 #include "cleanslam/hal/interfaces.hpp"
+#include "time_units.hpp"
 
 namespace cleanslam::test {
+
+// A sensor-silence predicate for ScriptedSource::drive that never silences a sensor.
+inline auto never_silent() {
+  return [](hal::SensorEvent::Kind, hal::TimeNs) { return false; };
+}
 
 // A scripted virtual-time source: events in the given order, each due at `due` (the event's own
 // stamp unless a test wants a lie).

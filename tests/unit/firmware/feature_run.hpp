@@ -6,6 +6,7 @@
 
 #include "cleanslam/firmware/config.hpp"
 #include "cleanslam/firmware/slam_estimator.hpp"
+#include "time_units.hpp"
 
 // A SlamEstimator driven straight ahead (gyro at 100 Hz, encoders at 20 Hz, 4000 ticks/m) and
 // given feature frames; for the features-path tests.
@@ -18,7 +19,6 @@ struct FeatureRun {
   }
 
   void drive_to(hal::TimeNs t) {
-    constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
     for (; t_ <= t; t_ += 10 * kMs) {
       hal::GyroSample g;
       g.t_ns = t_;

@@ -10,6 +10,7 @@
 #include "cleanslam/firmware/recorder.hpp"
 #include "cleanslam/hal/log_format.hpp"
 #include "cleanslam/readers/log_source.hpp"
+#include "time_units.hpp"
 
 // Faults of a log that get through the checksum: each is refused or told with the record's type
 // and offset, and costs no more than its own record.
@@ -21,8 +22,8 @@ namespace lf = hal::log;
 using readers::LogReader;
 using readers::LogSource;
 
-constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
-constexpr hal::TimeNs kS = hal::kNsPerSecond;
+using test::kMs;
+using test::kS;
 
 // A log built record by record: every record sealed with a valid checksum.
 class LogBuilder {

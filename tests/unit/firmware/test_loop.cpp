@@ -28,12 +28,9 @@ using test::CollectingSink;
 using test::FakeEstimator;
 using test::ScriptedSource;
 
-constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
-constexpr hal::TimeNs kS = hal::kNsPerSecond;
-
-auto never_silent() {
-  return [](SensorEvent::Kind, hal::TimeNs) { return false; };
-}
+using test::kMs;
+using test::kS;
+using test::never_silent;
 
 struct Rig {
   FakeEstimator est;

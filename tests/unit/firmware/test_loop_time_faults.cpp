@@ -20,14 +20,11 @@ using firmware::RunEnd;
 using firmware::VirtualClock;
 using hal::SensorEvent;
 
-constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
-constexpr hal::TimeNs kS = hal::kNsPerSecond;
+using test::kMs;
+using test::kS;
+using test::never_silent;
 constexpr hal::TimeNs kYear = hal::TimeNs{365} * 86'400 * kS;
 constexpr hal::TimeNs kNineE18 = 9'000'000'000'000'000'000;
-
-auto never_silent() {
-  return [](SensorEvent::Kind, hal::TimeNs) { return false; };
-}
 
 struct FirstRejects final : firmware::HealthObserver {
   std::vector<std::pair<hal::TimeNs, Reject>> told;

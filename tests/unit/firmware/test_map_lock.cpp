@@ -50,7 +50,7 @@ std::string pid_text() {
   return "pid " + std::to_string(::getpid());
 }
 
-firmware::MapStoreOptions options(const std::string& path) {
+firmware::MapStoreOptions store_options(const std::string& path) {
   firmware::MapStoreOptions o;
   o.path = path;
   return o;
@@ -127,13 +127,13 @@ TEST(MapLock, ALockFileThatCannotBeCreatedIsAnErrorNamingIt) {
 TEST(MapStoreLock, ASecondStoreOnOneMapIsRefusedAtStartAndSavesNothing) {
   Dir dir("second");
   const std::string path = dir.file("map.bin");
-  MapStore first(options(path));
+  MapStore first(store_options(path));
   ASSERT_EQ(first.check_at_start().found, MapStore::Found::kNone);
   std::string error;
   ASSERT_TRUE(save(first, 1, error)) << error;
   const auto before = fs::file_size(path);
 
-  MapStore second(options(path));
+  MapStore second(store_options(path));
   const MapStore::StartCheck c = second.check_at_start();
   EXPECT_EQ(c.found, MapStore::Found::kLocked) << text_of(c);
   EXPECT_NE(text_of(c).find("error: " + path + " is in use by another process (" + pid_text()),
@@ -151,10 +151,10 @@ TEST(MapStoreLock, ASecondStoreOnOneMapIsRefusedAtStartAndSavesNothing) {
 TEST(MapStoreLock, ASaveWithoutTheStartCheckTakesTheLockToo) {
   Dir dir("lazy");
   const std::string path = dir.file("map.bin");
-  MapStore first(options(path));
+  MapStore first(store_options(path));
   std::string error;
   ASSERT_TRUE(save(first, 1, error)) << error;
-  MapStore second(options(path));
+  MapStore second(store_options(path));
   EXPECT_FALSE(save(second, 2, error));
   EXPECT_NE(error.find("another process holds " + path + ".lock (" + pid_text()), std::string::npos)
       << error;
@@ -163,10 +163,10 @@ TEST(MapStoreLock, ASaveWithoutTheStartCheckTakesTheLockToo) {
 TEST(MapStoreLock, RunMapRefusesASecondRun) {
   Dir dir("runmap");
   const std::string path = dir.file("map.bin");
-  firmware::RunMap first(options(path), "test");
+  firmware::RunMap first(store_options(path), "test");
   EXPECT_FALSE(first.refused());
   EXPECT_NE(first.task(), nullptr);
-  firmware::RunMap second(options(path), "test");
+  firmware::RunMap second(store_options(path), "test");
   EXPECT_TRUE(second.refused());
   EXPECT_EQ(second.task(), nullptr);
 }
@@ -189,13 +189,13 @@ TEST(MapStoreLock, TemporariesOfSavesCutShortAreRemovedUnderTheLockOnly) {
     MapLock other(path + ".lock");  // another process's, as far as flock is concerned
     std::string why;
     ASSERT_EQ(other.acquire(why), MapLock::Result::kHeld) << why;
-    MapStore refused(options(path));
+    MapStore refused(store_options(path));
     EXPECT_EQ(refused.check_at_start().found, MapStore::Found::kLocked);
     for (const std::string& f : stale) {
       EXPECT_TRUE(fs::exists(f)) << f << " removed by a process without the lock";
     }
   }
-  MapStore store(options(path));
+  MapStore store(store_options(path));
   const MapStore::StartCheck c = store.check_at_start();
   EXPECT_EQ(c.found, MapStore::Found::kNone) << text_of(c);
   for (const std::string& f : stale) {
@@ -235,7 +235,7 @@ TEST(MapPaths, ASymlinkedMapIsSavedThroughToItsTarget) {
   const std::string link = dir.file("map.bin");
   fs::create_symlink("store/real.bin", link);  // relative: against the link's directory
   {
-    MapStore store(options(link));
+    MapStore store(store_options(link));
     const MapStore::StartCheck c = store.check_at_start();
     EXPECT_EQ(c.found, MapStore::Found::kNone) << text_of(c);
     EXPECT_NE(text_of(c).find(link + " is a symbolic link to " + target +
@@ -252,14 +252,14 @@ TEST(MapPaths, ASymlinkedMapIsSavedThroughToItsTarget) {
   EXPECT_EQ(fs::file_size(target), mf::file_size(1));
   EXPECT_TRUE(fs::exists(target + ".lock"));
   EXPECT_FALSE(fs::exists(link + ".lock"));
-  MapStore again(options(link));
+  MapStore again(store_options(link));
   const MapStore::StartCheck c = again.check_at_start();
   EXPECT_EQ(c.found, MapStore::Found::kValid) << text_of(c);
   EXPECT_EQ(again.snapshot().count, 1);
   // Two links to one target share its lock.
   const std::string link2 = dir.file("map2.bin");
   fs::create_symlink(target, link2);
-  MapStore second(options(link2));
+  MapStore second(store_options(link2));
   EXPECT_EQ(second.check_at_start().found, MapStore::Found::kLocked);
 }
 
@@ -271,7 +271,7 @@ TEST(MapPaths, AChainOfLinksIsFollowedAndALoopRefusedNamingIt) {
   EXPECT_EQ(firmware::map_paths(dir.file("a"), 1).file, target);
   fs::create_symlink(dir.file("loop2"), dir.file("loop1"));
   fs::create_symlink(dir.file("loop1"), dir.file("loop2"));
-  MapStore store(options(dir.file("loop1")));
+  MapStore store(store_options(dir.file("loop1")));
   const MapStore::StartCheck c = store.check_at_start();
   EXPECT_EQ(c.found, MapStore::Found::kUnreadable);
   EXPECT_NE(

@@ -29,12 +29,12 @@ namespace cleanslam {
 namespace {
 
 namespace fs = std::filesystem;
+using cleanslam::test::kMs;
 using drivers::LedPattern;
 using firmware::FirmwareConfig;
 using firmware::led_pattern;
 using firmware::parse_config;
 using firmware::RobotSettings;
-constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
 
 std::string joined(const std::vector<std::string>& v) {
   std::string s;

@@ -15,7 +15,7 @@ namespace cs = cleanslam::slam_core;
 
 namespace {
 
-constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
+using cleanslam::test::kMs;
 
 }  // namespace
 

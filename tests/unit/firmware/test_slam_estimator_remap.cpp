@@ -14,7 +14,7 @@ namespace lf = cleanslam::hal::log;
 
 namespace {
 
-constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
+using cleanslam::test::kMs;
 
 // Driving at 0.2 m/s.
 cleanslam::test::FeatureRun remap_run(double remap_px, double min_yaw_std_deg = 0.0) {
