@@ -2,10 +2,10 @@
 # object's compile time:
 # - precompiled headers: cleanslam_precompile(TARGET HEADERS...) parses the heavy third-party
 #   headers once per target (CMAKE_DISABLE_PRECOMPILE_HEADERS turns them off);
-# - unity builds (CMAKE_UNITY_BUILD, set by the presets other than host-release, which keeps one
-#   object per file so that a missing include still fails there): batches of sources compiled as
-#   one object, so each batch instantiates Eigen's templates once. A fixture in an anonymous
-#   namespace is then "used in a header" for GCC, hence no -Wsubobject-linkage there.
+# - unity builds (CMAKE_UNITY_BUILD, set by the presets tools/test.sh builds; host-debug keeps one
+#   object per file, for quick rebuilds and so that a missing include fails there): batches of
+#   sources compiled as one object, so each batch instantiates Eigen's templates once. A fixture in
+#   an anonymous namespace is then "used in a header" for GCC, hence no -Wsubobject-linkage.
 set(CMAKE_UNITY_BUILD_BATCH_SIZE 8 CACHE STRING "Sources per object in unity builds")
 
 function(cleanslam_precompile target)

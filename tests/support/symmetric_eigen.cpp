@@ -12,10 +12,13 @@ SymmetricEigen symmetric_eigen(const Eigen::MatrixXd& symmetric) {
   return {solver.eigenvalues(), solver.eigenvectors()};
 }
 
-double min_eigenvalue(const Eigen::MatrixXd& symmetric) {
+Eigen::VectorXd symmetric_eigenvalues(const Eigen::MatrixXd& symmetric) {
   return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(symmetric, Eigen::EigenvaluesOnly)
-      .eigenvalues()
-      .minCoeff();
+      .eigenvalues();
+}
+
+double min_eigenvalue(const Eigen::MatrixXd& symmetric) {
+  return symmetric_eigenvalues(symmetric).minCoeff();
 }
 
 double asymmetry(const Eigen::MatrixXd& P) {

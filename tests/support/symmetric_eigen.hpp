@@ -14,6 +14,9 @@ struct SymmetricEigen {
 
 SymmetricEigen symmetric_eigen(const Eigen::MatrixXd& symmetric);
 
+// Eigenvalues only (ascending).
+Eigen::VectorXd symmetric_eigenvalues(const Eigen::MatrixXd& symmetric);
+
 double min_eigenvalue(const Eigen::MatrixXd& symmetric);
 
 // max |P - P^T|, in loops: armhf GCC's -Wnull-dereference flags the Eigen expression.
