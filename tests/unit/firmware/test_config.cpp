@@ -137,6 +137,16 @@ TEST(Config, UnknownKeysAreErrorsWithTheirLocation) {
   EXPECT_NE(all.find("filtre"), std::string::npos) << all;
 }
 
+// The sample's header says what the parser does with an unknown key (it once said "ignored with
+// a warning").
+TEST(Config, TheSampleHeaderTellsThatAnUnknownKeyStopsTheProgram) {
+  const std::string sample = firmware::sample_config_text();
+  const std::string head = sample.substr(0, sample.find("\n\n"));
+  EXPECT_EQ(head.find("ignored"), std::string::npos) << head;
+  EXPECT_NE(head.find("or an unknown key stops the program"), std::string::npos) << head;
+  EXPECT_FALSE(parse_config("filtre: {}\n", "w.yaml", {}).ok());
+}
+
 TEST(Config, SetOverridesFileValuesAndCreatesSections) {
   const ConfigResult r = parse_config("loop:\n  publish_rate_hz: 10\n", "s.yaml",
                                       {"loop.publish_rate_hz=50", "recorder.path=/tmp/r.log",
