@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cleanslam/firmware/config.hpp"
+#include "text_checks.hpp"
 
 namespace cleanslam {
 namespace {
@@ -16,13 +17,7 @@ using firmware::FirmwareConfig;
 using firmware::load_config;
 using firmware::parse_config;
 
-std::string joined(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) {
-    s += x + "\n";
-  }
-  return s;
-}
+using test::joined;
 
 TEST(Config, TheSampleDocumentsEveryKeyWithItsDefault) {
   const std::string sample =

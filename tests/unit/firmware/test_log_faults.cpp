@@ -10,6 +10,7 @@
 #include "cleanslam/firmware/recorder.hpp"
 #include "cleanslam/hal/log_format.hpp"
 #include "cleanslam/readers/log_source.hpp"
+#include "text_checks.hpp"
 #include "time_units.hpp"
 
 // Faults of a log that get through the checksum: each is refused or told with the record's type
@@ -100,9 +101,7 @@ Read read_all_events(LogSource& src) {
   return r;
 }
 
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
-}
+using test::contains;
 
 TEST(LogFaults, StampsPastTheSpanOrNegativeAreRefusedWithTheirOffset) {
   for (const hal::TimeNs bad :

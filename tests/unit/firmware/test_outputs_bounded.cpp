@@ -11,6 +11,7 @@
 #include "cleanslam/firmware/recorder.hpp"
 #include "cleanslam/firmware/rotating_file.hpp"
 #include "cleanslam/firmware/sinks.hpp"
+#include "text_checks.hpp"
 
 namespace cleanslam {
 namespace {
@@ -18,9 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 using firmware::Rotation;
 
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
-}
+using test::contains;
 
 std::string read(const fs::path& p) {
   std::ifstream in(p);

@@ -24,25 +24,21 @@
 #include "cleanslam/readers/dataset_source.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
 #include "fakes.hpp"
+#include "text_checks.hpp"
 
 namespace cleanslam {
 namespace {
 
 namespace fs = std::filesystem;
 using cleanslam::test::kMs;
+using cleanslam::test::kS;
 using drivers::LedPattern;
 using firmware::FirmwareConfig;
 using firmware::led_pattern;
 using firmware::parse_config;
 using firmware::RobotSettings;
 
-std::string joined(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) {
-    s += x + "\n";
-  }
-  return s;
-}
+using test::joined;
 
 TEST(RobotConfig, SetDownPolicyAndLinesAreReadAndValidated) {
   const auto r = parse_config(
@@ -98,7 +94,6 @@ TEST(StatusIndicator, FollowsTheLoopHealthOnAFakeLine) {
   const auto& line = gpio.line("gpiochip0", 1);
 
   test::ScriptedSource src;
-  const hal::TimeNs kS = hal::kNsPerSecond;
   // 0-2 s everything; from 2 s no camera (silent after 3 s more); from 10 s no encoders and the
   // pose lost.
   src.drive(0, 12 * kS, 2.0, [&](hal::SensorEvent::Kind k, hal::TimeNs t) {

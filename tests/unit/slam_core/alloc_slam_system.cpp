@@ -11,6 +11,7 @@
 #include "cleanslam/slam_core/map_snapshot.hpp"
 #include "cleanslam/slam_core/slam_system.hpp"
 #include "frontend_synthetic.hpp"
+#include "time_units.hpp"
 
 // SlamSystem, the estimation facade: after construction neither kind of frame allocates, nor do
 // odometry, prediction, the update in bounded parts, remapping and merging, a set-down
@@ -21,7 +22,7 @@ namespace lf = cleanslam::hal::log;
 
 namespace {
 
-constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
+using cleanslam::test::kMs;
 
 // Drives straight ahead at 0.2 m/s (gyro 100 Hz, encoders 20 Hz, 4000 ticks/m) and counts.
 struct Drive {

@@ -13,13 +13,14 @@
 #include "cleanslam/slam_core/geometry.hpp"
 #include "numeric_jacobian.hpp"
 #include "symmetric_eigen.hpp"
+#include "time_units.hpp"
 
 namespace cs = cleanslam::slam_core;
 namespace hal = cleanslam::hal;
 
 namespace {
 
-constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
+using cleanslam::test::kMs;
 
 // Drives a differential robot with body speed v(t) and yaw rate w(t): exact wheel ticks at 20 Hz
 // (from an arbitrary start count) and a gyro at 100 Hz with a constant bias, fed in time order.

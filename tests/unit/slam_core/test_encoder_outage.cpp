@@ -4,13 +4,14 @@
 #include <gtest/gtest.h>
 
 #include "cleanslam/slam_core/dead_reckoner.hpp"
+#include "time_units.hpp"
 
 namespace cs = cleanslam::slam_core;
 namespace hal = cleanslam::hal;
 
 namespace {
 
-constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
+using cleanslam::test::kMs;
 
 // Straight ahead at speed_m_s: gyro (zero rate) every 10 ms, encoders every 50 ms unless silent.
 struct StraightDrive {

@@ -10,6 +10,7 @@
 #include "cleanslam/slam_core/map_snapshot.hpp"
 #include "cleanslam/slam_core/slam_system.hpp"
 #include "frontend_synthetic.hpp"
+#include "time_units.hpp"
 
 // SlamSystem, the estimation facade: the cap on landmarks in view, the set-down policies, the
 // image path's dormant map after a relocalizing set-down, and the snapshot of the map a run saves.
@@ -19,7 +20,7 @@ namespace lf = cleanslam::hal::log;
 
 namespace {
 
-constexpr hal::TimeNs kMs = hal::kNsPerMillisecond;
+using cleanslam::test::kMs;
 
 class SlamSystemTest : public ::testing::Test {
  protected:
