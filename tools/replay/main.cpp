@@ -287,8 +287,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "cleanslam-replay: stopped by a signal at t=%.1f s of %.1f s: outputs in %s are "
                  "partial\n",
-                 static_cast<double>(std::max(clock.now(), t0) - t0) * 1e-9,
-                 static_cast<double>(t1 - t0) * 1e-9, out.c_str());
+                 hal::to_seconds(std::max(clock.now(), t0) - t0), hal::to_seconds(t1 - t0),
+                 out.c_str());
     return 130;
   }
   std::fprintf(stderr, "cleanslam-replay: outputs in %s\n", out.c_str());
