@@ -303,6 +303,12 @@ std::string to_text(const Metrics& m, Alignment alignment) {
                   "of poses inside their own 95 %% bounds\n",
                   m.nees_mean, m.nees_ratio, m.nees_ratio_low, m.nees_ratio_high, m.nees_count,
                   m.nees_effective_count, nees_verdict(m), 100.0 * m.nees_fraction_in_95);
+    out += buf;
+    std::snprintf(buf, sizeof(buf),
+                  "                      (NEES: each pose's squared position error weighed by the "
+                  "inverse of the covariance the estimator claims; 3 on average when the claim "
+                  "is honest, above: overconfident; tools/eval/README.md, \"Reading the "
+                  "numbers\")\n");
   } else {
     std::snprintf(buf, sizeof(buf), "position NEES         no covariances\n");
   }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "cleanslam/firmware/robot_calibration.hpp"
 #include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/hal/calibration_limits.hpp"
 #include "cleanslam/hal/capacities.hpp"
@@ -372,6 +373,17 @@ bool apply_override(yaml::Node& root, const std::string& item, std::vector<std::
   }
 }
 
+// The node at the dotted `key` below `root`, or nullptr.
+const yaml::Node* find_dotted(const yaml::Node& root, std::string_view key) {
+  const yaml::Node* node = &root;
+  while (node != nullptr && !key.empty()) {
+    const auto dot = key.find('.');
+    node = node->find(key.substr(0, dot));
+    key = dot == std::string_view::npos ? std::string_view() : key.substr(dot + 1);
+  }
+  return node;
+}
+
 ConfigResult finish(yaml::Node root, const std::vector<std::string>& overrides) {
   ConfigResult result;
   for (const auto& o : overrides) {
@@ -379,6 +391,12 @@ ConfigResult finish(yaml::Node root, const std::vector<std::string>& overrides) 
   }
   if (!result.ok()) {
     return result;
+  }
+  for (const char* key : kMeasuredCalibrationKeys) {
+    const yaml::Node* n = find_dotted(root, key);
+    if (n == nullptr || n->is_null()) {
+      result.calibration_not_set.emplace_back(key);
+    }
   }
   yaml::Diagnostics d;
   if (!root.is_null()) {

@@ -12,6 +12,7 @@
 #include "cleanslam/firmware/output_report.hpp"
 #include "cleanslam/firmware/recorder.hpp"
 #include "cleanslam/firmware/replay_check.hpp"
+#include "cleanslam/firmware/robot_calibration.hpp"
 #include "cleanslam/firmware/run.hpp"
 #include "cleanslam/firmware/sinks.hpp"
 #include "cleanslam/firmware/status_indicator.hpp"
@@ -321,6 +322,7 @@ int run_normal(const Args& args) {
   const readers::DatasetSource* dataset = nullptr;
   const readers::LogSource* log_source = nullptr;
   std::unique_ptr<drivers::RobotDrivers> robot;
+  bool uncalibrated = false;
   switch (config.source.kind) {
     case SourceSettings::Kind::kDataset: {
       readers::DatasetSource::Options options;
@@ -375,6 +377,11 @@ int run_normal(const Args& args) {
         std::fprintf(stderr, kNotTheRobot, config.source.can_interface.c_str(),
                      config.source.camera_device.c_str());
         return 2;
+      }
+      uncalibrated = !cfg.calibration_not_set.empty();
+      if (uncalibrated) {
+        std::fprintf(stderr, "cleanslam: warning: %s\n",
+                     uncalibrated_message(cfg.calibration_not_set, args.config_path).c_str());
       }
       drivers::RobotDriversConfig dc;
       dc.can.interface = config.source.can_interface;
@@ -461,7 +468,7 @@ int run_normal(const Args& args) {
     MonotonicClock clock;
     std::optional<StatusIndicator> indicator;
     if (robot->status_led() != nullptr) {
-      indicator.emplace(*robot->status_led(), robot->inputs_missing());
+      indicator.emplace(*robot->status_led(), robot->inputs_missing() || uncalibrated);
     }
     TaskPair tasks(indicator ? &*indicator : nullptr, saving);
     end = run_live(loop, clock, signals, &tasks);
@@ -490,6 +497,10 @@ int run_normal(const Args& args) {
     }
   }
   print_summary(loop, stderr);
+  if (uncalibrated) {
+    std::fprintf(stderr, "cleanslam: warning: %s\n",
+                 uncalibrated_message(cfg.calibration_not_set, args.config_path).c_str());
+  }
   if (end == RunEnd::kStopped) {
     std::fprintf(stderr, "cleanslam: stopped by signal, outputs flushed\n");
   }

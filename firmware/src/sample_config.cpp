@@ -21,7 +21,10 @@ constexpr const char* kHead =
 # the calibration it ran with).
 calibration_from_dataset: true
 
-# The sensors.yaml schema of docs/dataset-format.md.
+# The sensors.yaml schema of docs/dataset-format.md. These values are a sample, not a robot's: on
+# the robot (source.kind: drivers), fx, fy, cx, cy, distortion, T_body_cam, ticks_per_meter_left,
+# ticks_per_meter_right, wheel_base and noise_density are measured (docs/bring-up.md); until the
+# configuration sets them, the health is degraded and the firmware says which are missing.
 calibration:
   camera:
     width: 320                # pixels, at most 320

@@ -4,12 +4,12 @@
 
 namespace cleanslam::firmware {
 
-drivers::LedPattern led_pattern(std::uint32_t health, bool devices_missing) {
+drivers::LedPattern led_pattern(std::uint32_t health, bool set_up_incomplete) {
   if ((health & (hal::kPoseLost | hal::kLifted)) != 0) {
     return drivers::LedPattern::kFault;
   }
-  if (devices_missing || (health & (hal::kGyroSilent | hal::kEncodersSilent | hal::kCameraSilent |
-                                    hal::kFewLandmarks)) != 0) {
+  if (set_up_incomplete || (health & (hal::kGyroSilent | hal::kEncodersSilent | hal::kCameraSilent |
+                                      hal::kFewLandmarks)) != 0) {
     return drivers::LedPattern::kDegraded;
   }
   return drivers::LedPattern::kOk;

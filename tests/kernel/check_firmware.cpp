@@ -99,6 +99,16 @@ int main() {
     check.expect(false, "/program/cleanslam not in the guest");
     return check.finish();
   }
+  // This robot's calibration: the base board's 4000 ticks per metre, vivid's camera as the
+  // sample's.
+  std::ofstream("/tmp/robot.yaml") << "calibration:\n"
+                                      "  camera: {fx: 280, fy: 280, cx: 159.5, cy: 119.5,\n"
+                                      "    distortion: [0, 0, 0, 0],\n"
+                                      "    T_body_cam: [0, 0, 1, 0.1, -1, 0, 0, 0, 0, -1, 0, 0.08,"
+                                      " 0, 0, 0, 1]}\n"
+                                      "  wheels: {ticks_per_meter_left: 4000, "
+                                      "ticks_per_meter_right: 4000, wheel_base: 0.235}\n"
+                                      "  gyro: {noise_density: 0.0005}\n";
   std::atomic<bool> stop{false};
   std::atomic<bool> quiet{false};
   std::thread board(base_board, &stop, &quiet);
@@ -111,6 +121,8 @@ int main() {
     ::dup2(log, 2);
     ::setenv("LD_LIBRARY_PATH", "/lib/aarch64-linux-gnu", 1);
     const char* argv[] = {"/program/cleanslam",
+                          "--config",
+                          "/tmp/robot.yaml",
                           "--set",
                           "source.kind=drivers",
                           "--set",
@@ -218,6 +230,14 @@ int main() {
   check.expect(led_changes_silent >= 2, "the LED did not blink while the base board was silent");
   check.expect(led_after != 1, "the status LED stayed lit after cleanslam stopped");
   check.expect(clean, "cleanslam did not stop cleanly on SIGTERM");
+  {
+    std::ifstream log("/tmp/cleanslam.log");
+    bool uncalibrated = false;
+    for (std::string line; std::getline(log, line);) {
+      uncalibrated = uncalibrated || line.find("uncalibrated") != std::string::npos;
+    }
+    check.expect(!uncalibrated, "cleanslam called the calibrated robot uncalibrated");
+  }
   check.note("%d pose frames on vcan0, %d of them flagged lifted", pose_frames, lifted_frames);
   check.expect(pose_frames >= 10, "only %d pose frames on vcan0", pose_frames);
   check.expect(lifted_frames > 0, "no pose frame flagged the lift (power-button pulse on line 3)");

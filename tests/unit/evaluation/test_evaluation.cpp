@@ -182,7 +182,14 @@ TEST(Evaluation, NeesRatioWithItsBandAndVerdict) {
   EXPECT_NEAR(m->nees_ratio_low, 1.0 - 1.96 * std::sqrt(2.0 / (3.0 * n)), 0.01);
   EXPECT_NEAR(m->nees_ratio_high, 1.0 + 1.96 * std::sqrt(2.0 / (3.0 * n)), 0.01);
   EXPECT_STREQ(ev::nees_verdict(*m), "consistent") << m->nees_ratio;
-  EXPECT_NE(ev::to_text(*m, ev::Alignment::kSe3).find(": consistent;"), std::string::npos);
+  const std::string text = ev::to_text(*m, ev::Alignment::kSe3);
+  EXPECT_NE(text.find(": consistent;"), std::string::npos);
+  // Where the NEES is printed, one line says what it is and where the longer text is.
+  EXPECT_NE(text.find("(NEES: each pose's squared position error weighed by the inverse of the "
+                      "covariance the estimator claims; 3 on average when the claim is honest"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("tools/eval/README.md, \"Reading the numbers\""), std::string::npos) << text;
   auto over = with_variance(sigma * sigma / 4.0);
   EXPECT_NEAR(over->nees_ratio, 4.0 * m->nees_ratio, 1e-9);
   EXPECT_STREQ(ev::nees_verdict(*over), "overconfident");

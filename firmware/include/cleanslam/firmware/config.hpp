@@ -60,6 +60,8 @@ struct ConfigResult {
   FirmwareConfig config;
   std::vector<std::string> warnings;
   std::vector<std::string> errors;  // each names the file, line and key
+  // The keys of kMeasuredCalibrationKeys that neither the file nor an override sets.
+  std::vector<std::string> calibration_not_set;
   [[nodiscard]] bool ok() const { return errors.empty(); }
 };
 
