@@ -444,8 +444,8 @@ def filtering_variances(fs):
             cov = np.linalg.inv(info[np.ix_(keep, keep)] + np.eye(len(keep)) * 1e-12)
             var.append(cov[0, 0] + cov[1, 1])
         shifted = np.zeros((size, size))
-        shifted[np.ix_(np.r_[0:4, 8:size], np.r_[0:4, 8:size])] = info[np.ix_(np.r_[4:8, 8:size],
-                                                                          np.r_[4:8, 8:size])]
+        kept = np.r_[4:8, 8:size]
+        shifted[np.ix_(np.r_[0:4, 8:size], np.r_[0:4, 8:size])] = info[np.ix_(kept, kept)]
         info = shifted
     return np.array(var)
 

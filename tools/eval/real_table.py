@@ -31,9 +31,8 @@ import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import monte_carlo as mc  # noqa: E402
-import scenario_table as st  # noqa: E402
+import monte_carlo as mc
+import scenario_table as st
 
 IMPORTER = os.path.join(mc.REPO, "tools", "import", "mrclam.py")
 # ../shared beside the repository, or beside the folder of the worktree it is checked out in.

@@ -30,8 +30,7 @@ import subprocess
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import monte_carlo as mc  # noqa: E402
+import monte_carlo as mc
 
 
 def split_top_level(text, sep=","):
@@ -113,8 +112,8 @@ def markdown(scenario, seeds, configs, results, failures, bounds=None):
     names = [n for n, _ in configs]
     lines = [f"### {scenario}", ""]
     for n, sets in configs:
-        lines.append(f"- **{n}**: " + (", ".join(f"`{s}`" for s in sets) if sets else
-                                        "current defaults"))
+        lines.append(f"- **{n}**: " + (", ".join(f"`{s}`" for s in sets) if sets
+                                       else "current defaults"))
     lines.append("")
     own_dr = dead_reckonings_differ(scenario, seeds, names, results)
     head = ["seed", "path m"] + ([] if own_dr else ["DR ATE m"])

@@ -6,11 +6,12 @@
 DATASET holds groundtruth.csv and features.csv; RUN holds dead_reckoning.tum (cleanslam-replay
 --out). At each pose of dead_reckoning.tum (the frames the estimator processed), the bound's pose
 is the ground truth at the dead reckoner's latest pose at or before the latest earlier frame with
-a feature, moved on by the dead reckoner's own motion since then. A causal estimator that knew the truth at every sighting but
-had only odometry in between would have this ATE before fusing the new frame; a SLAM estimate
-far above it is not limited by the odometry between sightings. Prints the poses, the ATE RMSE of
-dead reckoning (as cleanslam-eval --align none: both trajectories relative to their first pose)
-and of the bound, in metres. Exit status 1 when a file is missing or malformed."""
+a feature, moved on by the dead reckoner's own motion since then. A causal estimator that knew
+the truth at every sighting but had only odometry in between would have this ATE before fusing
+the new frame; a SLAM estimate far above it is not limited by the odometry between sightings.
+Prints the poses, the ATE RMSE of dead reckoning (as cleanslam-eval --align none: both
+trajectories relative to their first pose) and of the bound, in metres. Exit status 1 when a
+file is missing or malformed."""
 
 import argparse
 import bisect

@@ -10,10 +10,9 @@ import subprocess
 import sys
 
 import numpy as np
+import mrclam_data
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-import mrclam_data  # noqa: E402
 
 data = mrclam_data.dataset6()
 if data is None:

@@ -13,9 +13,9 @@ import shutil
 import subprocess
 import sys
 
+import mrclam_data
+
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-import mrclam_data  # noqa: E402
 
 ROBOT = 3
 # SLAM ATE RMSE in metres, measured with

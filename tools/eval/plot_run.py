@@ -32,6 +32,7 @@ try:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import numpy as np
+    from cleanslam_eval import trajectory
     from matplotlib.patches import Ellipse, Rectangle
 except ModuleNotFoundError as e:
     print(f"plot_run.py: {sys.executable} has no module '{e.name}'. Run it with Debian's "
@@ -46,53 +47,14 @@ def fail(msg):
     sys.exit(1)
 
 
-def read_tum(path):
-    rows = []
-    with open(path) as f:
-        for n, line in enumerate(f, 1):
-            s = line.strip()
-            if not s or s.startswith("#"):
-                continue
-            p = s.replace(",", " ").split()
-            if len(p) != 8:
-                fail(f"{path}:{n}: expected 8 fields (t x y z qx qy qz qw), got {len(p)}")
-            try:
-                rows.append([float(v) for v in p])
-            except ValueError:
-                fail(f"{path}:{n}: expected numbers")
-    if not rows:
-        fail(f"{path}: no poses")
-    a = np.array(rows)
-    t = a[:, 0]
-    qx, qy, qz, qw = a[:, 4], a[:, 5], a[:, 6], a[:, 7]
-    yaw = np.arctan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-    return t, a[:, 1:4], yaw
-
-
-def read_groundtruth(path):
-    rows = []
-    with open(path) as f:
-        header = f.readline().strip()
-        if not header.startswith("#t_ns,x_m,y_m,z_m,qw,qx,qy,qz"):
-            fail(f"{path}:1: expected the header #t_ns,x_m,y_m,z_m,qw,qx,qy,qz")
-        for n, line in enumerate(f, 2):
-            s = line.strip()
-            if not s:
-                continue
-            p = s.split(",")
-            if len(p) != 8:
-                fail(f"{path}:{n}: expected 8 fields, got {len(p)}")
-            try:
-                rows.append([float(v) for v in p])
-            except ValueError:
-                fail(f"{path}:{n}: expected numbers")
-    if not rows:
-        fail(f"{path}: no poses")
-    a = np.array(rows)
-    t = a[:, 0] * 1e-9
-    qw, qx, qy, qz = a[:, 4], a[:, 5], a[:, 6], a[:, 7]
-    yaw = np.arctan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-    return t, a[:, 1:4], yaw
+def read_poses(reader, path):
+    """t, positions and yaw of a TUM file or ground truth (reader: trajectory.read_tum or
+    trajectory.read_groundtruth)."""
+    try:
+        poses = reader(path)
+    except ValueError as e:
+        fail(str(e))
+    return poses.t, poses.position, trajectory.yaw(poses.wxyz)
 
 
 def read_landmarks(path):
@@ -220,8 +182,8 @@ def main():
     title = args.title or (f"{os.path.basename(os.path.normpath(run))} on "
                            f"{os.path.basename(dataset_dir)}")
 
-    gt_t, gt_p, gt_yaw = read_groundtruth(args.gt)
-    est_t, est_p, est_yaw = read_tum(traj_path)
+    gt_t, gt_p, gt_yaw = read_poses(trajectory.read_groundtruth, args.gt)
+    est_t, est_p, est_yaw = read_poses(trajectory.read_tum, traj_path)
     rot, shift = (0.0, np.zeros(3)) if args.no_anchor else anchor(
         est_t, est_p, est_yaw, gt_t, gt_p, gt_yaw)
     est_p = apply(rot, shift, est_p)
@@ -232,7 +194,7 @@ def main():
     for name in ("dead_reckoning_published.tum", "dead_reckoning.tum"):
         dr_path = os.path.join(run, name)
         if os.path.isfile(dr_path):
-            dr_t, dr_p, dr_yaw = read_tum(dr_path)
+            dr_t, dr_p, dr_yaw = read_poses(trajectory.read_tum, dr_path)
             r2, s2 = (0.0, np.zeros(3)) if args.no_anchor else anchor(
                 dr_t, dr_p, dr_yaw, gt_t, gt_p, gt_yaw)
             dr = (dr_t, apply(r2, s2, dr_p))
@@ -296,11 +258,13 @@ def main():
                                  fill=False, color="r", lw=0.6))
         if good:
             g = np.array(good)
-            ax.plot(g[:, 0], g[:, 1], "r+", ms=6, label=f"{plural(len(good), 'landmark')} (1σ ellipses)")
+            ax.plot(g[:, 0], g[:, 1], "r+", ms=6,
+                    label=f"{plural(len(good), 'landmark')} (1σ ellipses)")
         if vague:
             g = np.array(vague)
             ax.plot(g[:, 0], g[:, 1], "x", color="0.5", ms=5,
-                    label=f"{plural(len(vague), 'landmark')} with σ > {args.max_sigma:g} m (no ellipse)")
+                    label=f"{plural(len(vague), 'landmark')} with σ > {args.max_sigma:g} m "
+                    "(no ellipse)")
         if outside:
             ax.plot([], [], " ", label=f"{plural(outside, 'landmark')} outside the plotted area")
         print(f"landmarks: {plural(len(good), 'landmark')} with ellipses, "
