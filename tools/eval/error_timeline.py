@@ -20,6 +20,7 @@ import os
 import sys
 
 import numpy as np
+from cleanslam_eval import nees_note
 
 
 def yaw_of(qw, qx, qy, qz):
@@ -96,6 +97,7 @@ def main(argv=None):
                   f" deg (std {math.degrees(math.sqrt(max(P[2, 2], 0.0))):6.1f})  NEES/dof {q:8.2f}"
                   f"  path SLAM/true {path_ratio(est_path[i], gt_path[i])}")
     print(f"mean (x, y, yaw) NEES per dof: {np.nanmean(nees):.3g}")
+    print(nees_note.PER_DOF)
     dr_text = ""
     dr_file = os.path.join(a.run, "dead_reckoning.tum")
     if os.path.exists(dr_file):

@@ -35,6 +35,7 @@ import tempfile
 import numpy as np
 
 import monte_carlo as mc
+from cleanslam_eval import nees_note
 from cleanslam_eval import trajectory
 from scenario_table import parse_seeds
 
@@ -148,7 +149,7 @@ def table(scenario, mode, seeds, results, failures, within_s, tolerance_m):
                      f"{'yes' if r['passed'] else 'no'} |")
     ok = [r for r in results.values() if r["relocalized_after_s"] is not None]
     wrong = [s for s, r in results.items() if r["confident_wrong"]]
-    lines += ["", f"relocalized {len(ok)}/{len(seeds)}, passed "
+    lines += ["", nees_note.POSITION, "", f"relocalized {len(ok)}/{len(seeds)}, passed "
               f"{sum(r['passed'] for r in results.values())}/{len(seeds)}, confident wrong "
               f"poses {len(wrong)}" + (f" (seeds {', '.join(map(str, sorted(wrong)))})"
                                        if wrong else "")]

@@ -19,12 +19,11 @@ import os
 import shlex
 import shutil
 import statistics
-import subprocess
 import sys
 import tempfile
 
 import numpy as np
-from cleanslam_eval import trajectory
+from cleanslam_eval import nees_note, processes, trajectory
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DEFAULT_BIN = os.path.join(REPO, "build", "host-release", "bin")
@@ -128,8 +127,7 @@ class RunError(Exception):
 
 def _exec(cmd, emulator, log):
     full = list(emulator) + cmd
-    proc = subprocess.run(full, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                          check=False)
+    proc = processes.run(full)
     if log is not None:
         with open(log, "a", encoding="utf-8") as f:
             f.write("$ " + shlex.join(full) + "\n" + proc.stdout + proc.stderr)
@@ -216,22 +214,34 @@ def find_tools(bin_dir):
     return tools
 
 
-def run_parallel(jobs, tasks, label):
-    """tasks: list of (key, callable). Returns ({key: result}, {key: error message})."""
-    results, errors = {}, {}
+def run_parallel(jobs, tasks, label, on_done=None, results=None, errors=None):
+    """tasks: list of (key, callable). Returns ({key: result}, {key: error message}), filled in
+    as the tasks finish (into results and errors when given); on_done(key) after each. A stop
+    (KeyboardInterrupt, processes.Stopped) cancels the tasks not started, terminates the running
+    ones' programs and is raised again."""
+    results = {} if results is None else results
+    errors = {} if errors is None else errors
     done = 0
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, jobs)) as ex:
         futures = {ex.submit(fn): key for key, fn in tasks}
-        for fut in concurrent.futures.as_completed(futures):
-            key = futures[fut]
-            done += 1
-            try:
-                results[key] = fut.result()
-                print(f"[{done}/{len(tasks)}] {label} {key} done", file=sys.stderr, flush=True)
-            except (RunError, OSError, ValueError, KeyError) as e:
-                errors[key] = str(e)
-                print(f"[{done}/{len(tasks)}] {label} {key} FAILED: {e}", file=sys.stderr,
-                      flush=True)
+        try:
+            for fut in concurrent.futures.as_completed(futures):
+                key = futures[fut]
+                done += 1
+                try:
+                    results[key] = fut.result()
+                    print(f"[{done}/{len(tasks)}] {label} {key} done", file=sys.stderr,
+                          flush=True)
+                except (RunError, OSError, ValueError, KeyError) as e:
+                    errors[key] = str(e)
+                    print(f"[{done}/{len(tasks)}] {label} {key} FAILED: {e}", file=sys.stderr,
+                          flush=True)
+                if on_done is not None:
+                    on_done(key)
+        except (KeyboardInterrupt, processes.Stopped):
+            ex.shutdown(wait=False, cancel_futures=True)
+            processes.end_children()
+            raise
     return results, errors
 
 
@@ -328,6 +338,7 @@ def print_text(scenario, runs, summary, failures, out=sys.stdout):
     p(f"SLAM beat DR in {s['slam_beats_dr_ate']}/{s['runs']} runs by ATE, "
       f"{s['slam_beats_dr_final']}/{s['runs']} by final error")
     lo, hi = s["anees_band_95"]
+    p(nees_note.POSITION)
     p(f"position NEES ({NEES_DOF} dof), 95 % band of the average over {s['runs']} runs: "
       f"[{lo:.3f}, {hi:.3f}]")
     if "final_anees" in s:

@@ -111,3 +111,11 @@ def test_missing_programs(tmp_path):
     p = subprocess.run([sys.executable, TOOL, "--bin", str(tmp_path / "nothing")],
                        capture_output=True, text=True, check=False)
     assert p.returncode == 1 and "not found" in p.stderr
+
+
+def test_table_explains_its_nees(tmp_path):
+    figures = run_figures(tmp_path, "ok", relocalize_at=13.0)
+    r = k.assess(10.0, *figures, claim_s=None) | {"set_down_s": 10.0}
+    text = k.table("kidnapped", "features", [1], {1: r}, {}, 10.0, 0.1)
+    assert "Position NEES (3 degrees of freedom): 3 on average when the covariance is honest" \
+        in text
