@@ -33,7 +33,7 @@ import numpy as np
 
 import monte_carlo as mc
 import scenario_table as st
-from cleanslam_eval import nees_note, processes
+from cleanslam_eval import nees_note, processes, trajectory
 
 IMPORTER = os.path.join(mc.REPO, "tools", "import", "mrclam.py")
 # ../shared beside the repository, or beside the folder of the worktree it is checked out in.
@@ -98,40 +98,23 @@ def run(tools, data, robot, gyro, seed, sets, base, bound, emulator, diagnose=Fa
 STATUSES = ("updated", "initialized", "merged", "gated", "depth_bound", "behind_camera", "skipped")
 
 
-def relative(x, y, yaw0):
-    """Positions relative to the first, in the frame of the first pose's heading yaw0."""
-    c, s = math.cos(yaw0), math.sin(yaw0)
-    return np.stack([c * (x - x[0]) + s * (y - y[0]), -s * (x - x[0]) + c * (y - y[0])], axis=1)
-
-
 def yaw_diagnostics(dataset, run_dir):
     """The SLAM heading's error against its std. dev. (both relative to the first pose, as
     --align none), and the dead reckoner's heading error: RMS in degrees, the fraction of poses
     whose error exceeds 3 std. dev., the mean (x, y, yaw) NEES per dof."""
-    gt = np.loadtxt(os.path.join(dataset, "groundtruth.csv"), delimiter=",", comments="#",
-                    ndmin=2)
-    gt_t = gt[:, 0] * 1e-9
-    gt_yaw = np.unwrap(2.0 * np.arctan2(gt[:, 7], gt[:, 4]))
+    gt = trajectory.read_groundtruth(os.path.join(dataset, "groundtruth.csv"))
 
     def errors(name):
-        est = np.loadtxt(os.path.join(run_dir, name), ndmin=2)  # t x y z qx qy qz qw
-        keep = (est[:, 0] >= gt_t[0]) & (est[:, 0] <= gt_t[-1])
-        est = est[keep]
-        yaw = np.unwrap(2.0 * np.arctan2(est[:, 6], est[:, 7]))
-        g = np.interp(est[:, 0], gt_t, gt_yaw)
-        gx, gy = np.interp(est[:, 0], gt_t, gt[:, 1]), np.interp(est[:, 0], gt_t, gt[:, 2])
-        dyaw = (yaw - yaw[0]) - (g - g[0])
-        dpos = relative(est[:, 1], est[:, 2], yaw[0]) - relative(gx, gy, g[0])
-        return keep, (dyaw + np.pi) % (2.0 * np.pi) - np.pi, dpos
+        return trajectory.planar_errors(gt, trajectory.read_tum(os.path.join(run_dir, name)))
 
-    keep, e, dpos = errors("trajectory.tum")
+    keep, _, err = errors("trajectory.tum")
+    e = err[:, 2]
     cov = np.loadtxt(os.path.join(run_dir, "trajectory.tum.cov"), ndmin=2)[keep]
     P = cov[:, 1:].reshape(-1, 6, 6)[:, [0, 1, 5]][:, :, [0, 1, 5]]
-    err = np.column_stack([dpos, e])
     nees = [float(v @ np.linalg.solve(p, v)) / 3.0 for v, p in zip(err, P)
             if np.all(np.linalg.eigvalsh(p) > 0)]
     sd = np.sqrt(np.maximum(P[:, 2, 2], 0.0))
-    _, e_dr, _ = errors("dead_reckoning.tum")
+    e_dr = errors("dead_reckoning.tum")[2][:, 2]
     return {"slam_yaw_rms_deg": math.degrees(float(np.sqrt(np.mean(e * e)))),
             "slam_yaw_sd_rms_deg": math.degrees(float(np.sqrt(np.mean(sd * sd)))),
             "yaw_beyond_3sd": float(np.mean(np.abs(e) > 3.0 * sd)),

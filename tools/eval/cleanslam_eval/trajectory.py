@@ -213,3 +213,37 @@ def evaluate_files(groundtruth_csv, trajectory_tum, cov_file=None, mode="none"):
     if cov_file is not None:
         read_covariances(cov_file, est)
     return evaluate(read_groundtruth(groundtruth_csv), est, mode)
+
+
+def from_tum_rows(rows):
+    """Poses of TUM rows (n x 8: t x y z qx qy qz qw) already read."""
+    t_ns = np.array([round(v * 1e9) for v in rows[:, 0]], dtype=np.int64)
+    return Poses(rows[:, 0], t_ns, rows[:, 1:4], rows[:, [7, 4, 5, 6]])
+
+
+def from_groundtruth_rows(rows):
+    """Poses of groundtruth.csv rows (n x 8: t_ns x y z qw qx qy qz) already read."""
+    return Poses(rows[:, 0] * 1e-9, np.array([round(v) for v in rows[:, 0]], dtype=np.int64),
+                 rows[:, 1:4], rows[:, 4:8])
+
+
+def planar_errors(gt, est):
+    """The planar errors of the estimate's poses inside the ground truth, both trajectories
+    relative to their first such pose as with --align none: positions in the frame of the first
+    pose's heading. Returns (keep: which of est's poses, the truth's xy at them, the errors
+    n x 3: x, y and yaw wrapped to [-pi, pi))."""
+    keep = (est.t_ns >= gt.t_ns[0]) & (est.t_ns <= gt.t_ns[-1])
+    truth = [truth_at(gt, int(t)) for t in est.t_ns[keep]]
+    g_xy = np.array([p[:2] for p, _ in truth]).reshape(-1, 2)
+    g_yaw = np.unwrap(yaw(np.array([q for _, q in truth]).reshape(-1, 4)))
+    e_xy, e_yaw = est.position[keep, :2], np.unwrap(yaw(est.wxyz[keep]))
+
+    def relative(xy, heading):
+        c, s = math.cos(heading[0]), math.sin(heading[0])
+        d = xy - xy[0]
+        return np.stack([c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]], axis=1)
+
+    dyaw = (e_yaw - e_yaw[0]) - (g_yaw - g_yaw[0])
+    err = np.column_stack([relative(e_xy, e_yaw) - relative(g_xy, g_yaw),
+                           (dyaw + np.pi) % (2.0 * np.pi) - np.pi])
+    return keep, g_xy, err
