@@ -2,6 +2,7 @@
 of cleanslam-eval (evaluation/src/metrics.cpp): times matched in integer nanoseconds, ground truth
 interpolated linearly in position and by slerp in orientation, alignment none (both trajectories
 relative to their first evaluated pose), se2 or se3 (least squares, no scale)."""
+import bisect
 import math
 from dataclasses import dataclass, field
 
@@ -247,3 +248,26 @@ def planar_errors(gt, est):
     err = np.column_stack([relative(e_xy, e_yaw) - relative(g_xy, g_yaw),
                            (dyaw + np.pi) % (2.0 * np.pi) - np.pi])
     return keep, g_xy, err
+
+
+class PlanarTruth:
+    """The ground truth in the plane, (x, y, yaw) at t seconds: interpolated linearly (yaw the
+    short way round) and held at its first and last pose outside its span; the bound scripts'
+    reference."""
+
+    def __init__(self, gt):
+        self.t = gt.t.tolist()
+        self.xy = gt.position[:, :2].tolist()
+        self.yaw = [math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+                    for w, x, y, z in gt.wxyz.tolist()]
+
+    def at(self, t):
+        i = bisect.bisect_right(self.t, t)
+        if i <= 0 or i >= len(self.t):
+            k = 0 if i <= 0 else -1
+            return self.xy[k][0], self.xy[k][1], self.yaw[k]
+        (xa, ya), (xb, yb) = self.xy[i - 1], self.xy[i]
+        s = (t - self.t[i - 1]) / (self.t[i] - self.t[i - 1])
+        wa, wb = self.yaw[i - 1], self.yaw[i]
+        turn = math.atan2(math.sin(wb - wa), math.cos(wb - wa))
+        return xa + s * (xb - xa), ya + s * (yb - ya), wa + s * turn
