@@ -157,7 +157,7 @@ if slam.get("ate_rmse_m") and dr.get("ate_rmse_m"):
 PY
 
 step "plots -> $out/"
-/usr/bin/python3 tools/plot/plot_run.py "$out/run" --gt "$out/dataset/groundtruth.csv" --out "$out" \
+/usr/bin/python3 tools/eval/plot_run.py "$out/run" --gt "$out/dataset/groundtruth.csv" --out "$out" \
   --title "${scenario_name:-$scenario}, seed ${seed_used:-?}, $mode mode"
 echo "demo: done; in $out: dataset/ (the simulated sensors), run/ (the estimate), slam.json and"
 echo "dead_reckoning.json (cleanslam-eval), trajectory_xy.png and position_error.png (the plots)"

@@ -18,7 +18,7 @@ demo_packages=(
 # back to procedural textures, saying so, without them.
 host_test_packages=(
   "${demo_packages[@]}" gpiod libopencv-dev python3-opencv python3-yaml valgrind clang-format
-  can-utils v4l-utils python3-skimage
+  can-utils v4l-utils python3-skimage python3-pytest flake8
 )
 host_packages=(
   "${host_test_packages[@]}" g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user qemu-user-static

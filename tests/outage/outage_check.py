@@ -20,6 +20,10 @@ import sys
 
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools",
+                                "eval"))
+from cleanslam_eval import trajectory  # noqa: E402
+
 FILES = {"encoders": "encoders.csv", "gyro": "gyro.csv", "camera": None}
 THRESHOLD_KEY = "filter.pose_lost_position_std_m"
 FOUND = 0.8
@@ -49,41 +53,6 @@ def delete_window(folder, sensor, t0_ns, t1_ns):
             f.write("\n".join(l for l in lines if keep(l)) + "\n")
 
 
-def read_tum(path):
-    rows = []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or not line.strip():
-                continue
-            v = [float(x) for x in line.split()]
-            rows.append(v)
-    return np.array(rows)
-
-
-def read_cov(path):
-    out = {}
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or not line.strip():
-                continue
-            v = [float(x) for x in line.replace(",", " ").split()]
-            m = np.array(v[1:])
-            n = int(round(math.sqrt(len(m))))
-            out[round(v[0], 6)] = m.reshape(n, n)[:3, :3]
-    return out
-
-
-def read_gt(path):
-    rows = []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or not line.strip():
-                continue
-            v = line.split(",")
-            rows.append([int(v[0]) * 1e-9] + [float(x) for x in v[1:4]])
-    return np.array(rows)
-
-
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("bindir")
@@ -110,8 +79,7 @@ def main():
     if a.mode == "images":
         sim += ["--set", "camera.mode=images"]
     run(sim)
-    gt = read_gt(os.path.join(data, "groundtruth.csv"))
-    t_first = gt[0, 0]
+    t_first = trajectory.read_groundtruth(os.path.join(data, "groundtruth.csv")).t[0]
     t0, t1 = t_first + a.start_s, t_first + a.start_s + a.seconds
     delete_window(data, a.sensor, int(t0 * 1e9), int(t1 * 1e9))
     out = os.path.join(work, "run")
@@ -124,25 +92,26 @@ def main():
                          os.path.join(data, "groundtruth.csv"), "--est",
                          os.path.join(out, "trajectory.tum"), "--json"]).stdout)
 
-    # Per-pose position NEES (as cleanslam-eval --align none: relative to the first pose, whose
+    # Per-pose position NEES (cleanslam-eval --align none: relative to the first pose, whose
     # covariance is essentially zero at the start).
-    est = read_tum(os.path.join(out, "trajectory.tum"))
-    cov = read_cov(os.path.join(out, "trajectory.tum.cov"))
-    gx = [np.interp(est[:, 0], gt[:, 0], gt[:, k]) for k in (1, 2, 3)]
-    g = np.stack(gx, axis=1)
-    e = (est[:, 1:4] - est[0, 1:4]) - (g - g[0])
-    nees = np.array([e[i] @ np.linalg.solve(cov[round(est[i, 0], 6)], e[i]) / 3.0
-                     for i in range(len(est))])
-    sigma = np.array([math.sqrt(max(cov[round(t, 6)][0, 0], cov[round(t, 6)][1, 1]))
-                      for t in est[:, 0]])
-    err = np.linalg.norm(e[:, :2], axis=1)
+    tum = os.path.join(out, "trajectory.tum")
+    est = trajectory.read_covariances(tum + ".cov", trajectory.read_tum(tum))
+    e = trajectory.evaluate(trajectory.read_groundtruth(os.path.join(data, "groundtruth.csv")),
+                            est)
+    if len(e.nees) != len(est.t):
+        print("FAIL: %d of %d poses have a NEES (inside the ground truth, with a positive-definite "
+              "covariance)" % (len(e.nees), len(est.t)), file=sys.stderr)
+        return 1
+    t = est.t
+    nees = np.array(e.nees) / 3.0
+    sigma = np.array([math.sqrt(max(c[0, 0], c[1, 1])) for c in est.covariance])
+    err = np.linalg.norm(e.error[:, :2], axis=1)
     if a.nees_out:
         with open(a.nees_out, "w") as f:
             f.write("#t_s,nees_per_dof,error_m,sigma_m\n")
-            for i in range(len(est)):
-                f.write("%.6f,%.6g,%.6g,%.6g\n" % (est[i, 0] - t_first, nees[i], err[i], sigma[i]))
-    inside = (est[:, 0] >= t0) & (est[:, 0] < t1 + 2.0)
-    after = est[:, 0] >= t1
+            for i in range(len(t)):
+                f.write("%.6f,%.6g,%.6g,%.6g\n" % (t[i] - t_first, nees[i], err[i], sigma[i]))
+    inside = (t >= t0) & (t < t1 + 2.0)
 
     sample = run([os.path.join(a.bindir, "cleanslam"), "--print-sample-config"]).stdout
 
@@ -166,7 +135,7 @@ def main():
     # chi-square distributed: its 99th percentile per dof is 3.8).
     worst = 0.0
     for c in np.arange(t0, t1 + 2.0, 1.0):
-        sel = (est[:, 0] >= c) & (est[:, 0] < c + 5.0)
+        sel = (t >= c) & (t < c + 5.0)
         if np.any(sel):
             worst = max(worst, float(np.mean(nees[sel])))
     report = {

@@ -1,7 +1,7 @@
 # plot_run.py: one landmark with a 28 m standard deviation is drawn as a marker and counted; the
 # axes stay within the room and the trajectories. Existing PNGs are replaced only with --force.
 . "$(dirname "$0")/common.sh"
-PLOT=$SRC/tools/plot/plot_run.py
+PLOT=$SRC/tools/eval/plot_run.py
 features_dataset "$WORK/ds"
 run "$BIN/cleanslam-replay" "$WORK/ds" --out "$WORK/run" 2>/dev/null || fail "replay"
 echo "900,3.0,2.5,0.3,784,0,0,784,0,4" >>"$WORK/run/landmarks.csv"

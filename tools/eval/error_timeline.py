@@ -20,16 +20,7 @@ import os
 import sys
 
 import numpy as np
-
-
-def yaw_of(qw, qx, qy, qz):
-    return math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-
-
-def relative(x, y, yaw, x0, y0, yaw0):
-    c, s = math.cos(-yaw0), math.sin(-yaw0)
-    dx, dy = x - x0, y - y0
-    return c * dx - s * dy, s * dx + c * dy, yaw - yaw0
+from cleanslam_eval import nees_note, trajectory
 
 
 def load(path, columns, **kwargs):
@@ -64,25 +55,17 @@ def main(argv=None):
         print(f"error_timeline: {a.run}/trajectory.tum.cov: expected t and 36 values per pose of "
               "trajectory.tum", file=sys.stderr)
         return 1
-    gt_t = gt[:, 0] * 1e-9
-    gt_yaw = np.unwrap([yaw_of(*r[4:8]) for r in gt])
-    t = est[:, 0]
-    keep = (t >= gt_t[0]) & (t <= gt_t[-1])
+    truth, poses = trajectory.from_groundtruth_rows(gt), trajectory.from_tum_rows(est)
+    keep, g_xy, errs = trajectory.planar_errors(truth, poses)
     if not keep.any():
         print("error_timeline: no pose of the run lies within the ground truth", file=sys.stderr)
         return 1
-    t, est, cov = t[keep], est[keep], cov[keep]
-    gx, gy = np.interp(t, gt_t, gt[:, 1]), np.interp(t, gt_t, gt[:, 2])
-    gw = np.interp(t, gt_t, gt_yaw)
-    ew = np.unwrap([yaw_of(r[7], r[4], r[5], r[6]) for r in est])
+    t, est, cov = est[keep, 0], est[keep], cov[keep]
+    gx, gy = g_xy[:, 0], g_xy[:, 1]
     est_path = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(est[:, 1]), np.diff(est[:, 2])))))
     gt_path = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(gx), np.diff(gy)))))
     nees, last = [], -math.inf
-    for i in range(len(t)):
-        g = relative(gx[i], gy[i], gw[i], gx[0], gy[0], gw[0])
-        e = relative(est[i, 1], est[i, 2], ew[i], est[0, 1], est[0, 2], ew[0])
-        err = np.array([e[0] - g[0], e[1] - g[1],
-                        (e[2] - g[2] + math.pi) % (2.0 * math.pi) - math.pi])
+    for i, err in enumerate(errs):
         P = cov[i, 1:].reshape(6, 6)[np.ix_([0, 1, 5], [0, 1, 5])]
         try:
             q = float(err @ np.linalg.solve(P, err)) / 3.0
@@ -96,6 +79,7 @@ def main(argv=None):
                   f" deg (std {math.degrees(math.sqrt(max(P[2, 2], 0.0))):6.1f})  NEES/dof {q:8.2f}"
                   f"  path SLAM/true {path_ratio(est_path[i], gt_path[i])}")
     print(f"mean (x, y, yaw) NEES per dof: {np.nanmean(nees):.3g}")
+    print(nees_note.PER_DOF)
     dr_text = ""
     dr_file = os.path.join(a.run, "dead_reckoning.tum")
     if os.path.exists(dr_file):

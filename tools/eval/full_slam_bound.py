@@ -47,6 +47,7 @@ import numpy as np
 
 import known_map_bound as kmb
 import sighting_bound
+from cleanslam_eval import trajectory
 
 HUBER = 2.0  # standard deviations
 BEHIND_COST = 4.0 * HUBER * HUBER  # an observation predicted behind the camera
@@ -444,8 +445,8 @@ def filtering_variances(fs):
             cov = np.linalg.inv(info[np.ix_(keep, keep)] + np.eye(len(keep)) * 1e-12)
             var.append(cov[0, 0] + cov[1, 1])
         shifted = np.zeros((size, size))
-        shifted[np.ix_(np.r_[0:4, 8:size], np.r_[0:4, 8:size])] = info[np.ix_(np.r_[4:8, 8:size],
-                                                                          np.r_[4:8, 8:size])]
+        kept = np.r_[4:8, 8:size]
+        shifted[np.ix_(np.r_[0:4, 8:size], np.r_[0:4, 8:size])] = info[np.ix_(kept, kept)]
         info = shifted
     return np.array(var)
 
@@ -471,7 +472,8 @@ def problem(dataset, start="truth", wheel=False):
     odo = Odometry(dataset, sen)
     feats = kmb.load_csv(os.path.join(dataset, "features.csv"), 4)
     lms = kmb.load_csv(os.path.join(dataset, "sim_landmarks.csv"), 4)
-    truth = sighting_bound.Truth(os.path.join(dataset, "groundtruth.csv"))
+    truth = trajectory.PlanarTruth(
+        trajectory.read_groundtruth(os.path.join(dataset, "groundtruth.csv")))
     frames = frames_of(feats, odo.t[0], odo.t[-1])
     if not frames:
         raise ValueError(f"{dataset}/features.csv: no frame within the encoder samples")

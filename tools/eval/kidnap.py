@@ -34,9 +34,10 @@ import tempfile
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import monte_carlo as mc  # noqa: E402
-from scenario_table import parse_seeds  # noqa: E402
+import monte_carlo as mc
+from cleanslam_eval import nees_note
+from cleanslam_eval import trajectory
+from scenario_table import parse_seeds
 
 NEES_POSES = 3
 RECOVERED = re.compile(r"t=([0-9.]+) s: recovered: pose lost")
@@ -59,24 +60,8 @@ def set_down_s(lift_csv):
 def planar_errors(groundtruth_csv, trajectory_tum):
     """(times_s, planar position errors) of every pose inside the ground truth, both trajectories
     relative to their first evaluated pose (cleanslam-eval --align none)."""
-    gt = mc._read_rows(groundtruth_csv)
-    gt_t = [r[0] * 1e-9 for r in gt]
-    ref = None
-    times, errs = [], []
-    for r in mc._read_rows(trajectory_tum):
-        t = r[0]
-        truth = mc.truth_at(gt, gt_t, t)
-        if truth is None:
-            continue
-        gp, gq = truth
-        e_pos = np.array(r[1:4])
-        if ref is None:
-            ref = (mc._quat_to_rot(r[7], r[4], r[5], r[6]), e_pos, mc._quat_to_rot(*gq), gp)
-        e0r, e0p, g0r, g0p = ref
-        err = e0r.T @ (e_pos - e0p) - g0r.T @ (gp - g0p)
-        times.append(t)
-        errs.append(float(math.hypot(err[0], err[1])))
-    return times, errs
+    e = trajectory.evaluate_files(groundtruth_csv, trajectory_tum)
+    return [float(t) for t in e.t], [float(math.hypot(x, y)) for x, y, _ in e.error]
 
 
 def claimed_s(log_text, down_s):
@@ -164,7 +149,7 @@ def table(scenario, mode, seeds, results, failures, within_s, tolerance_m):
                      f"{'yes' if r['passed'] else 'no'} |")
     ok = [r for r in results.values() if r["relocalized_after_s"] is not None]
     wrong = [s for s, r in results.items() if r["confident_wrong"]]
-    lines += ["", f"relocalized {len(ok)}/{len(seeds)}, passed "
+    lines += ["", nees_note.POSITION, "", f"relocalized {len(ok)}/{len(seeds)}, passed "
               f"{sum(r['passed'] for r in results.values())}/{len(seeds)}, confident wrong "
               f"poses {len(wrong)}" + (f" (seeds {', '.join(map(str, sorted(wrong)))})"
                                        if wrong else "")]

@@ -31,6 +31,7 @@ import numpy as np
 import yaml
 
 import sighting_bound
+from cleanslam_eval import trajectory
 
 # Spread added to resampled particles (metres, radians): less lets the filter lose the truth on
 # long single-landmark passes (seed 6 of sparse-poor-odometry with 0.003 m, 0.002 rad).
@@ -246,7 +247,8 @@ def localize(dataset, particles=5000, seed=1, progress=None):
 
 
 def world_ate(dataset, poses):
-    truth = sighting_bound.Truth(os.path.join(dataset, "groundtruth.csv"))
+    truth = trajectory.PlanarTruth(
+        trajectory.read_groundtruth(os.path.join(dataset, "groundtruth.csv")))
     sq = 0.0
     for t, x, y, _ in poses:
         gx, gy, _ = truth.at(t)

@@ -19,11 +19,11 @@ import os
 import shlex
 import shutil
 import statistics
-import subprocess
 import sys
 import tempfile
 
 import numpy as np
+from cleanslam_eval import nees_note, processes, trajectory
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DEFAULT_BIN = os.path.join(REPO, "build", "host-release", "bin")
@@ -96,36 +96,6 @@ def anees_band(n_runs, dof=NEES_DOF, confidence=0.95):
     return chi2_ppf(tail, k) / n_runs, chi2_ppf(1.0 - tail, k) / n_runs
 
 
-# ---------------------------------------------------------------------------------------------
-# Per-pose position NEES, with the same conventions as cleanslam-eval --align none: both
-# trajectories relative to their first evaluated pose, ground truth interpolated at the
-# estimate's stamps (linear position, slerp orientation), covariance rotated like the estimate.
-
-
-def _quat_to_rot(w, x, y, z):
-    n = math.sqrt(w * w + x * x + y * y + z * z)
-    w, x, y, z = w / n, x / n, y / n, z / n
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-    ])
-
-
-def _slerp(qa, qb, s):
-    qa = np.asarray(qa, dtype=float)
-    qb = np.asarray(qb, dtype=float)
-    d = float(np.dot(qa, qb))
-    if d < 0.0:
-        qb, d = -qb, -d
-    if d > 0.9995:
-        q = qa + s * (qb - qa)
-    else:
-        th = math.acos(min(1.0, d))
-        q = (math.sin((1 - s) * th) * qa + math.sin(s * th) * qb) / math.sin(th)
-    return q / np.linalg.norm(q)
-
-
 def _read_rows(path):
     rows = []
     with open(path, encoding="utf-8") as f:
@@ -140,65 +110,11 @@ def _read_rows(path):
     return rows
 
 
-def _time_key(t_s):
-    return round(t_s * 1e6)  # the evaluation matches covariance stamps within 1 us
-
-
-def truth_at(gt, gt_t, t):
-    """The ground truth's (position, quaternion w x y z) at t seconds, interpolated between its
-    rows (gt: rows of groundtruth.csv, gt_t: their times in seconds), or None outside its span."""
-    i = bisect.bisect_right(gt_t, t)
-    if i == 0 or (i == len(gt_t) and t > gt_t[-1]):
-        return None
-    a = gt[i - 1]
-    if i == len(gt_t) or gt_t[i - 1] == t:
-        return np.array(a[1:4]), a[4:8]
-    b = gt[i]
-    s = (t - gt_t[i - 1]) / (gt_t[i] - gt_t[i - 1])
-    return (1 - s) * np.array(a[1:4]) + s * np.array(b[1:4]), _slerp(a[4:8], b[4:8], s)
-
-
 def pose_nees(groundtruth_csv, trajectory_tum, cov_file):
     """Returns (times_s, nees) of every estimated pose inside the ground truth with a
-    positive-definite covariance."""
-    gt = _read_rows(groundtruth_csv)  # t_ns x y z qw qx qy qz
-    gt_t = [r[0] * 1e-9 for r in gt]
-    est = _read_rows(trajectory_tum)  # t x y z qx qy qz qw
-    covs = {}
-    for r in _read_rows(cov_file):
-        if len(r) == 10:
-            covs[_time_key(r[0])] = np.array(r[1:10]).reshape(3, 3)
-        elif len(r) == 37:
-            covs[_time_key(r[0])] = np.array(r[1:37]).reshape(6, 6)[:3, :3]
-        else:
-            raise ValueError(f"{cov_file}: a line has {len(r)} fields, expected 10 or 37")
-    ref = None
-    times, values = [], []
-    for r in est:
-        t = r[0]
-        truth = truth_at(gt, gt_t, t)
-        if truth is None:
-            continue
-        gp, gq = truth
-        g_rot = _quat_to_rot(*gq)
-        e_pos = np.array(r[1:4])
-        e_rot = _quat_to_rot(r[7], r[4], r[5], r[6])
-        if ref is None:
-            ref = (e_rot, e_pos, g_rot, gp)
-        e0r, e0p, g0r, g0p = ref
-        err = e0r.T @ (e_pos - e0p) - g0r.T @ (gp - g0p)
-        p = covs.get(_time_key(t))
-        if p is None:
-            continue
-        p = e0r.T @ (0.5 * (p + p.T)) @ e0r
-        try:
-            chol = np.linalg.cholesky(p)
-        except np.linalg.LinAlgError:
-            continue
-        y = np.linalg.solve(chol, err)
-        times.append(t)
-        values.append(float(y @ y))
-    return times, values
+    positive-definite covariance, as cleanslam-eval --align none."""
+    e = trajectory.evaluate_files(groundtruth_csv, trajectory_tum, cov_file)
+    return e.nees_t, e.nees
 
 
 # ---------------------------------------------------------------------------------------------
@@ -211,8 +127,7 @@ class RunError(Exception):
 
 def _exec(cmd, emulator, log):
     full = list(emulator) + cmd
-    proc = subprocess.run(full, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                          check=False)
+    proc = processes.run(full)
     if log is not None:
         with open(log, "a", encoding="utf-8") as f:
             f.write("$ " + shlex.join(full) + "\n" + proc.stdout + proc.stderr)
@@ -299,22 +214,34 @@ def find_tools(bin_dir):
     return tools
 
 
-def run_parallel(jobs, tasks, label):
-    """tasks: list of (key, callable). Returns ({key: result}, {key: error message})."""
-    results, errors = {}, {}
+def run_parallel(jobs, tasks, label, on_done=None, results=None, errors=None):
+    """tasks: list of (key, callable). Returns ({key: result}, {key: error message}), filled in
+    as the tasks finish (into results and errors when given); on_done(key) after each. A stop
+    (KeyboardInterrupt, processes.Stopped) cancels the tasks not started, terminates the running
+    ones' programs and is raised again."""
+    results = {} if results is None else results
+    errors = {} if errors is None else errors
     done = 0
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, jobs)) as ex:
         futures = {ex.submit(fn): key for key, fn in tasks}
-        for fut in concurrent.futures.as_completed(futures):
-            key = futures[fut]
-            done += 1
-            try:
-                results[key] = fut.result()
-                print(f"[{done}/{len(tasks)}] {label} {key} done", file=sys.stderr, flush=True)
-            except (RunError, OSError, ValueError, KeyError) as e:
-                errors[key] = str(e)
-                print(f"[{done}/{len(tasks)}] {label} {key} FAILED: {e}", file=sys.stderr,
-                      flush=True)
+        try:
+            for fut in concurrent.futures.as_completed(futures):
+                key = futures[fut]
+                done += 1
+                try:
+                    results[key] = fut.result()
+                    print(f"[{done}/{len(tasks)}] {label} {key} done", file=sys.stderr,
+                          flush=True)
+                except (RunError, OSError, ValueError, KeyError) as e:
+                    errors[key] = str(e)
+                    print(f"[{done}/{len(tasks)}] {label} {key} FAILED: {e}", file=sys.stderr,
+                          flush=True)
+                if on_done is not None:
+                    on_done(key)
+        except (KeyboardInterrupt, processes.Stopped):
+            ex.shutdown(wait=False, cancel_futures=True)
+            processes.end_children()
+            raise
     return results, errors
 
 
@@ -393,9 +320,10 @@ def print_text(scenario, runs, summary, failures, out=sys.stdout):
     p(f"{'seed':>6} {'path m':>8} {'DR ATE':>8} {'SLAM ATE':>9} {'DR fin':>8} {'SLAM fin':>9}"
       f" {'NEES':>10} {'in95%':>6}")
     for r in runs:
+        in95 = None if r['nees_fraction_in_95'] is None else 100 * r['nees_fraction_in_95']
         p(f"{r['seed']:>6d} {r['path_length_m']:8.2f} {r['dr_ate_m']:8.3f} {r['slam_ate_m']:9.3f}"
           f" {r['dr_final_m']:8.3f} {r['slam_final_m']:9.3f} {_f(r['nees_mean'], '10.2f')}"
-          f" {_f(None if r['nees_fraction_in_95'] is None else 100 * r['nees_fraction_in_95'], '6.1f')}")
+          f" {_f(in95, '6.1f')}")
     for seed, msg in sorted(failures.items()):
         p(f"{seed:>6d} FAILED: {msg}")
     if not runs:
@@ -410,6 +338,7 @@ def print_text(scenario, runs, summary, failures, out=sys.stdout):
     p(f"SLAM beat DR in {s['slam_beats_dr_ate']}/{s['runs']} runs by ATE, "
       f"{s['slam_beats_dr_final']}/{s['runs']} by final error")
     lo, hi = s["anees_band_95"]
+    p(nees_note.POSITION)
     p(f"position NEES ({NEES_DOF} dof), 95 % band of the average over {s['runs']} runs: "
       f"[{lo:.3f}, {hi:.3f}]")
     if "final_anees" in s:

@@ -24,16 +24,16 @@ import os
 import shlex
 import shutil
 import statistics
-import subprocess
+import signal
 import sys
 import tempfile
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import monte_carlo as mc  # noqa: E402
-import scenario_table as st  # noqa: E402
+import monte_carlo as mc
+import scenario_table as st
+from cleanslam_eval import nees_note, processes, trajectory
 
 IMPORTER = os.path.join(mc.REPO, "tools", "import", "mrclam.py")
 # ../shared beside the repository, or beside the folder of the worktree it is checked out in.
@@ -58,8 +58,7 @@ def find_tools(bin_dir):
 def import_robot(data, robot, gyro, seed, dataset, log):
     cmd = [sys.executable, IMPORTER, data, str(robot), dataset, "--gyro", gyro, "--seed",
            str(seed), "--force"]
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                       check=False)
+    p = processes.run(cmd)
     with open(log, "a", encoding="utf-8") as f:
         f.write("$ " + shlex.join(cmd) + "\n" + p.stdout + p.stderr)
     if p.returncode != 0:
@@ -99,40 +98,23 @@ def run(tools, data, robot, gyro, seed, sets, base, bound, emulator, diagnose=Fa
 STATUSES = ("updated", "initialized", "merged", "gated", "depth_bound", "behind_camera", "skipped")
 
 
-def relative(x, y, yaw0):
-    """Positions relative to the first, in the frame of the first pose's heading yaw0."""
-    c, s = math.cos(yaw0), math.sin(yaw0)
-    return np.stack([c * (x - x[0]) + s * (y - y[0]), -s * (x - x[0]) + c * (y - y[0])], axis=1)
-
-
 def yaw_diagnostics(dataset, run_dir):
     """The SLAM heading's error against its std. dev. (both relative to the first pose, as
     --align none), and the dead reckoner's heading error: RMS in degrees, the fraction of poses
     whose error exceeds 3 std. dev., the mean (x, y, yaw) NEES per dof."""
-    gt = np.loadtxt(os.path.join(dataset, "groundtruth.csv"), delimiter=",", comments="#",
-                    ndmin=2)
-    gt_t = gt[:, 0] * 1e-9
-    gt_yaw = np.unwrap(2.0 * np.arctan2(gt[:, 7], gt[:, 4]))
+    gt = trajectory.read_groundtruth(os.path.join(dataset, "groundtruth.csv"))
 
     def errors(name):
-        est = np.loadtxt(os.path.join(run_dir, name), ndmin=2)  # t x y z qx qy qz qw
-        keep = (est[:, 0] >= gt_t[0]) & (est[:, 0] <= gt_t[-1])
-        est = est[keep]
-        yaw = np.unwrap(2.0 * np.arctan2(est[:, 6], est[:, 7]))
-        g = np.interp(est[:, 0], gt_t, gt_yaw)
-        gx, gy = np.interp(est[:, 0], gt_t, gt[:, 1]), np.interp(est[:, 0], gt_t, gt[:, 2])
-        dyaw = (yaw - yaw[0]) - (g - g[0])
-        dpos = relative(est[:, 1], est[:, 2], yaw[0]) - relative(gx, gy, g[0])
-        return keep, (dyaw + np.pi) % (2.0 * np.pi) - np.pi, dpos
+        return trajectory.planar_errors(gt, trajectory.read_tum(os.path.join(run_dir, name)))
 
-    keep, e, dpos = errors("trajectory.tum")
+    keep, _, err = errors("trajectory.tum")
+    e = err[:, 2]
     cov = np.loadtxt(os.path.join(run_dir, "trajectory.tum.cov"), ndmin=2)[keep]
     P = cov[:, 1:].reshape(-1, 6, 6)[:, [0, 1, 5]][:, :, [0, 1, 5]]
-    err = np.column_stack([dpos, e])
     nees = [float(v @ np.linalg.solve(p, v)) / 3.0 for v, p in zip(err, P)
             if np.all(np.linalg.eigvalsh(p) > 0)]
     sd = np.sqrt(np.maximum(P[:, 2, 2], 0.0))
-    _, e_dr, _ = errors("dead_reckoning.tum")
+    e_dr = errors("dead_reckoning.tum")[2][:, 2]
     return {"slam_yaw_rms_deg": math.degrees(float(np.sqrt(np.mean(e * e)))),
             "slam_yaw_sd_rms_deg": math.degrees(float(np.sqrt(np.mean(sd * sd)))),
             "yaw_beyond_3sd": float(np.mean(np.abs(e) > 3.0 * sd)),
@@ -172,21 +154,31 @@ COLUMNS = [("path m", "path_length_m", ".1f"), ("DR ATE m", "dr_ate_m", ".3f"),
            ("full SLAM ATE m", "full_slam_ate_m", ".3f"), ("run time s", "run_time_s", ".2f")]
 
 
+def columns(bound):
+    return [c for c in COLUMNS if bound or c[1] not in ("filtering_sd_m", "full_slam_ate_m")]
+
+
+def row(robot, g, results, failures, bound):
+    """One Markdown row: the run's figures, its failure, or "not finished"."""
+    r = results.get((robot, g))
+    if r is None:
+        what = (f"failed: {failures[(robot, g)][:80]}" if (robot, g) in failures
+                else "not finished")
+        return f"| {robot} | {g} | {what} |"
+    cells = [st._f(r.get(k), f) for _, k, f in columns(bound)]
+    if r["slam_ate_m"] < r["dr_ate_m"]:
+        cells[2] = f"**{cells[2]}**"
+    return f"| {robot} | {g} | " + " | ".join(cells) + " |"
+
+
 def markdown(robots, gyros, results, failures, bound, sets):
-    cols = [c for c in COLUMNS if bound or c[1] not in ("filtering_sd_m", "full_slam_ate_m")]
+    cols = columns(bound)
     lines = ["replay settings: " + (", ".join(f"`{s}`" for s in sets) if sets else "defaults"), "",
              "| robot | gyro | " + " | ".join(c[0] for c in cols) + " |",
              "|---:|---|" + "|".join(["---:"] * len(cols)) + "|"]
     for robot in robots:
         for g in gyros:
-            r = results.get((robot, g))
-            if r is None:
-                lines.append(f"| {robot} | {g} | failed: {failures.get((robot, g), '?')[:80]} |")
-                continue
-            cells = [st._f(r.get(k), f) for _, k, f in cols]
-            if r["slam_ate_m"] < r["dr_ate_m"]:
-                cells[2] = f"**{cells[2]}**"
-            lines.append(f"| {robot} | {g} | " + " | ".join(cells) + " |")
+            lines.append(row(robot, g, results, failures, bound))
     for g in gyros:
         ran = [results[(robot, g)] for robot in robots if (robot, g) in results]
         lines.append(f"| mean | {g} | " +
@@ -194,12 +186,27 @@ def markdown(robots, gyros, results, failures, bound, sets):
                      " |")
     lines += ["", "SLAM ATE in bold where it beats dead reckoning. ATE RMSE with --align none "
               "(both trajectories relative to their first pose). NEES/dof: mean position NEES "
-              "over the run's poses / 3 (1 if consistent)." +
+              "over the run's poses / 3. " + nees_note.PER_DOF +
               (" Filtering std. dev.: full_slam_bound.py --wheel-heading's RMS position std. "
                "dev. given the data up to each frame; full SLAM ATE: its smoothed trajectory's "
                "ATE, started from the truth." if bound else "") +
               " Run time: cleanslam-replay and the two cleanslam-eval calls."]
     return "\n".join(lines)
+
+
+def json_table(a, results, failures):
+    return json.dumps({"data": a.data, "replay_sets": a.sets, "seed": a.seed,
+                       "rows": [{"robot": k[0], "gyro": k[1]} | r
+                                for k, r in sorted(results.items())],
+                       "failures": [{"robot": k[0], "gyro": k[1], "error": v}
+                                    for k, v in sorted(failures.items())]}, indent=1) + "\n"
+
+
+def write_atomically(path, write):
+    """write(file) into path.tmp, then renamed to path: a reader never sees half a table."""
+    with open(path + ".tmp", "w", encoding="utf-8") as f:
+        write(f)
+    os.replace(path + ".tmp", path)
 
 
 def diagnosis_markdown(robots, gyros, results):
@@ -223,6 +230,19 @@ def diagnosis_markdown(robots, gyros, results):
     return "\n".join(lines)
 
 
+LOG_TICKS = (1.0, 2.0, 5.0)
+
+
+def log_limits(lo, hi):
+    """lo and hi widened to the nearest labelled ticks (1, 2, 5 times a power of ten) outside
+    them, so that the log axis has a label at both ends."""
+    def ticks(v):
+        e = math.floor(math.log10(v))
+        return [m * 10.0 ** k for k in (e - 1, e, e + 1) for m in LOG_TICKS]
+    return (max(t for t in ticks(lo) if t <= lo * (1 + 1e-9)),
+            min(t for t in ticks(hi) if t >= hi * (1 - 1e-9)))
+
+
 def plot(robots, gyros, results, path):
     import matplotlib
     matplotlib.use("Agg")
@@ -237,15 +257,18 @@ def plot(robots, gyros, results, path):
     series = [("dr_ate_m", "DR ATE", "tab:gray", "s"), ("slam_ate_m", "SLAM ATE", "tab:blue", "o"),
               ("filtering_sd_m", "bound: filtering std. dev.", "k", "D"),
               ("full_slam_ate_m", "bound: full SLAM ATE", "tab:green", "v")]
+    drawn = []
     for key, label, color, marker in series:
         pts = [(x, results[k][key]) for x, k in zip(xs, keys)
                if k in results and results[k].get(key) is not None]
         if pts:
             ax_ate.plot([p[0] for p in pts], [p[1] for p in pts], marker, color=color, ms=8,
                         label=label, ls="none")
+            drawn.append(key)
+    bound = any(k in drawn for k in ("filtering_sd_m", "full_slam_ate_m"))
     ax_ate.set_yscale("log")
-    ax_ate.set_ylabel("metres (log)")
-    ax_ate.set_title("ATE (--align none) and the full-SLAM bound")
+    ax_ate.set_ylabel("ATE" + (" and bound" if bound else "") + " [m] (log)")
+    ax_ate.set_title("ATE (--align none)" + (" and the full-SLAM bound" if bound else ""))
     pts = [(x, results[k]["nees_per_dof"]) for x, k in zip(xs, keys)
            if k in results and results[k].get("nees_per_dof") is not None]
     colors = {"commanded": "tab:orange", "mems": "tab:blue"}
@@ -259,7 +282,8 @@ def plot(robots, gyros, results, path):
     ax_nees.set_ylabel("mean position NEES per dof (log)")
     ax_nees.set_title("SLAM consistency")
     for ax in (ax_ate, ax_nees):
-        ax.yaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+        ax.set_ylim(*log_limits(*ax.get_ylim()))
+        ax.yaxis.set_major_locator(LogLocator(base=10, subs=LOG_TICKS))
         ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
         ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: ""))
         for k in range(1, len(robots)):
@@ -314,12 +338,40 @@ def main(argv=None):
     emulator = shlex.split(a.emulator)
     work = os.path.abspath(a.out) if a.out else tempfile.mkdtemp(prefix="cleanslam_real_")
     os.makedirs(work, exist_ok=True)
+    table = os.path.join(work, "table.json" if a.json else "table.md") if a.out else None
+    if table:
+        progress(f"the table grows in {table} as the runs finish")
+    results, failures = {}, {}
+
+    def report(output):
+        if a.json:
+            output.write(json_table(a, results, failures))
+        else:
+            output.write(markdown(robots, gyros, results, failures, a.bound, a.sets) + "\n")
+            if a.diagnose:
+                output.write("\n" + diagnosis_markdown(robots, gyros, results) + "\n")
+
+    def finished(key):
+        progress(row(key[0], key[1], results, failures, a.bound))
+        if table:
+            write_atomically(table, report)
+
+    processes.raise_on_sigterm()
     try:
         tasks = [((robot, g), lambda robot=robot, g=g: run(
             tools, a.data, robot, g, a.seed, a.sets, os.path.join(work, f"robot{robot}_{g}"),
             a.bound, emulator, a.diagnose)) for robot in robots for g in gyros]
-        results, failures = mc.run_parallel(a.jobs, tasks, "import, replay" +
-                                            (", bound" if a.bound else ""))
+        mc.run_parallel(a.jobs, tasks, "import, replay" + (", bound" if a.bound else ""),
+                        finished, results, failures)
+    except (KeyboardInterrupt, processes.Stopped) as e:
+        name = e.args[0] if isinstance(e, processes.Stopped) else "SIGINT"
+        report(sys.stdout)
+        sys.stdout.flush()
+        progress(f"stopped by {name}: {len(results)} of {len(robots) * len(gyros)} runs "
+                 "finished, in the "
+                 "table above" + (f" and in {table}" if table else "") +
+                 "; the others are marked not finished")
+        return 128 + signal.Signals[name].value
     finally:
         if not a.out:
             shutil.rmtree(work, ignore_errors=True)
@@ -331,16 +383,8 @@ def main(argv=None):
         except OSError as e:
             print(f"real_table: --plot {a.plot}: {e}", file=sys.stderr)
             plot_failed = True
-    if a.json:
-        json.dump({"data": a.data, "replay_sets": a.sets, "seed": a.seed,
-                   "rows": [{"robot": k[0], "gyro": k[1]} | r for k, r in sorted(results.items())],
-                   "failures": [{"robot": k[0], "gyro": k[1], "error": v}
-                                for k, v in sorted(failures.items())]}, sys.stdout, indent=1)
-        print()
-    else:
-        print(markdown(robots, gyros, results, failures, a.bound, a.sets))
-        if a.diagnose:
-            print("\n" + diagnosis_markdown(robots, gyros, results))
+    report(sys.stdout)
+    if not a.json:
         for k, v in sorted(failures.items()):
             print(f"\nFAILED robot {k[0]} --gyro {k[1]}: {v}")
     return 1 if failures or plot_failed else 0

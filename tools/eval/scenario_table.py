@@ -26,12 +26,11 @@ import os
 import shlex
 import shutil
 import statistics
-import subprocess
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import monte_carlo as mc  # noqa: E402
+import monte_carlo as mc
+from cleanslam_eval import nees_note, processes
 
 
 def split_top_level(text, sep=","):
@@ -84,8 +83,7 @@ def _f(x, fmt):
 def full_slam_bound(dataset, run):
     """full_slam_bound.py DATASET RUN --json --wheel-heading: its result, or RunError."""
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "full_slam_bound.py")
-    p = subprocess.run([sys.executable, script, dataset, run, "--json", "--wheel-heading"],
-                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
+    p = processes.run([sys.executable, script, dataset, run, "--json", "--wheel-heading"])
     if p.returncode != 0:
         raise mc.RunError(f"full_slam_bound.py {dataset}: exit {p.returncode}: "
                           f"{p.stderr.strip()[-300:]}")
@@ -113,8 +111,8 @@ def markdown(scenario, seeds, configs, results, failures, bounds=None):
     names = [n for n, _ in configs]
     lines = [f"### {scenario}", ""]
     for n, sets in configs:
-        lines.append(f"- **{n}**: " + (", ".join(f"`{s}`" for s in sets) if sets else
-                                        "current defaults"))
+        lines.append(f"- **{n}**: " + (", ".join(f"`{s}`" for s in sets) if sets
+                                       else "current defaults"))
     lines.append("")
     own_dr = dead_reckonings_differ(scenario, seeds, names, results)
     head = ["seed", "path m"] + ([] if own_dr else ["DR ATE m"])
@@ -175,8 +173,8 @@ def markdown(scenario, seeds, configs, results, failures, bounds=None):
     lines.append("| " + " | ".join(mean) + " |")
     lines.append("")
     lines.append("SLAM ATE in bold where it beats its own run's dead reckoning; SLAM better than "
-                 "DR: " + ", ".join(beats) + ". NEES: mean position NEES over the run's poses "
-                 "(3 if consistent). ATE RMSE with --align none." +
+                 "DR: " + ", ".join(beats) + ". NEES: mean position NEES over the run's poses. "
+                 + nees_note.POSITION + " ATE RMSE with --align none." +
                  (" Filtering std. dev.: full_slam_bound.py's RMS position standard deviation "
                   "given the data up to each frame." if bounds is not None else ""))
     return "\n".join(lines)

@@ -6,17 +6,19 @@
 DATASET holds groundtruth.csv and features.csv; RUN holds dead_reckoning.tum (cleanslam-replay
 --out). At each pose of dead_reckoning.tum (the frames the estimator processed), the bound's pose
 is the ground truth at the dead reckoner's latest pose at or before the latest earlier frame with
-a feature, moved on by the dead reckoner's own motion since then. A causal estimator that knew the truth at every sighting but
-had only odometry in between would have this ATE before fusing the new frame; a SLAM estimate
-far above it is not limited by the odometry between sightings. Prints the poses, the ATE RMSE of
-dead reckoning (as cleanslam-eval --align none: both trajectories relative to their first pose)
-and of the bound, in metres. Exit status 1 when a file is missing or malformed."""
+a feature, moved on by the dead reckoner's own motion since then. A causal estimator that knew
+the truth at every sighting but had only odometry in between would have this ATE before fusing
+the new frame; a SLAM estimate far above it is not limited by the odometry between sightings.
+Prints the poses, the ATE RMSE of dead reckoning (as cleanslam-eval --align none: both
+trajectories relative to their first pose) and of the bound, in metres. Exit status 1 when a
+file is missing or malformed."""
 
 import argparse
-import bisect
 import json
 import math
 import sys
+
+from cleanslam_eval import trajectory
 
 
 def yaw_of(w, x, y, z):
@@ -38,31 +40,6 @@ def read_rows(path, sep):
     return rows
 
 
-class Truth:
-    """Ground truth interpolated linearly (yaw the short way round)."""
-
-    def __init__(self, path):
-        rows = read_rows(path, ",")
-        if not rows or any(len(r) < 8 for r in rows):
-            raise ValueError(f"{path}: expected t_ns,x,y,z,qw,qx,qy,qz rows")
-        self.t = [r[0] * 1e-9 for r in rows]
-        self.rows = rows
-
-    def at(self, t):
-        i = bisect.bisect_right(self.t, t)
-        if i <= 0:
-            r = self.rows[0]
-            return r[1], r[2], yaw_of(*r[4:8])
-        if i >= len(self.t):
-            r = self.rows[-1]
-            return r[1], r[2], yaw_of(*r[4:8])
-        a, b = self.rows[i - 1], self.rows[i]
-        s = (t - self.t[i - 1]) / (self.t[i] - self.t[i - 1])
-        ya, yb = yaw_of(*a[4:8]), yaw_of(*b[4:8])
-        turn = math.atan2(math.sin(yb - ya), math.cos(yb - ya))
-        return (a[1] + s * (b[1] - a[1]), a[2] + s * (b[2] - a[2]), ya + s * turn)
-
-
 def moved(anchor, dr_from, dr_to):
     """anchor (x, y, yaw) moved by the planar motion from pose dr_from to dr_to."""
     dx, dy = dr_to[0] - dr_from[0], dr_to[1] - dr_from[1]
@@ -72,7 +49,7 @@ def moved(anchor, dr_from, dr_to):
 
 
 def bound(dataset, run):
-    truth = Truth(f"{dataset}/groundtruth.csv")
+    truth = trajectory.PlanarTruth(trajectory.read_groundtruth(f"{dataset}/groundtruth.csv"))
     frames = sorted({r[0] * 1e-9 for r in read_rows(f"{dataset}/features.csv", ",")})
     dr = [(r[0], r[1], r[2], yaw_of(r[7], r[4], r[5], r[6]))
           for r in read_rows(f"{run}/dead_reckoning.tum", None)]

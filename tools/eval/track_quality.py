@@ -214,7 +214,8 @@ def read_tracks(path, ds):
                     continue  # beyond --max-frames
                 k = ds.frame_of.get(t)
                 if k is None:
-                    raise InputError(f"{path}:{n}: t_ns {t} is no frame of {ds.folder}/cam0/data.csv")
+                    raise InputError(
+                        f"{path}:{n}: t_ns {t} is no frame of {ds.folder}/cam0/data.csv")
                 if (k, tid) in seen:
                     raise InputError(f"{path}:{n}: track {tid} observed twice at t_ns {t}")
                 seen.add((k, tid))

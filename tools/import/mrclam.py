@@ -33,9 +33,8 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import mrclam_calibration as cal  # noqa: E402
-from mrclam_files import InputError, Mrclam  # noqa: E402
+import mrclam_calibration as cal
+from mrclam_files import InputError, Mrclam
 
 WIDTH, HEIGHT, FOCAL_PX = 320, 240, 220.0
 CX, CY = (WIDTH - 1) / 2.0, (HEIGHT - 1) / 2.0

@@ -4,7 +4,6 @@ or beside the folder of the worktree it is checked out in. Absent: the tests ski
 import os
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SKIP = 77  # the tests' SKIP_RETURN_CODE
 
 
 def dataset6():

@@ -12,11 +12,10 @@ import shutil
 import subprocess
 import sys
 
+import mrclam
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-import mrclam  # noqa: E402
 
 bin_dir, work = sys.argv[1], sys.argv[2]
 shutil.rmtree(work, ignore_errors=True)

@@ -66,14 +66,16 @@ def fig7(rows, ax):
     # Top view: forward (world x) up, left (world y) to the left.
     for i, r in enumerate(rows):
         ax.plot(-r["true_y_cm"], r["true_x_cm"], "bD", label="true" if i == 0 else None)
-        ax.plot(-r["est_y_cm"], r["est_x_cm"], "ro", mfc="none", label="estimated" if i == 0 else None)
+        ax.plot(-r["est_y_cm"], r["est_x_cm"], "ro", mfc="none",
+                label="estimated" if i == 0 else None)
         # covariance of (-y, x)
         a, b, c = r["cov_yy_cm2"], -r["cov_xy_cm2"], r["cov_xx_cm2"]
         half = math.sqrt(((a - c) / 2) ** 2 + b * b)
         l1, l2 = (a + c) / 2 + half, max((a + c) / 2 - half, 0.0)
         angle = math.degrees(0.5 * math.atan2(2 * b, a - c))
-        ax.add_patch(Ellipse((-r["est_y_cm"], r["est_x_cm"]), 2 * math.sqrt(l1), 2 * math.sqrt(l2),
-                             angle=angle, fill=False, color="r", label="1 sigma" if i == 0 else None))
+        ax.add_patch(Ellipse((-r["est_y_cm"], r["est_x_cm"]), 2 * math.sqrt(l1),
+                             2 * math.sqrt(l2), angle=angle, fill=False, color="r",
+                             label="1 sigma" if i == 0 else None))
     ax.plot([0, -rows[0]["robot_y_cm"]], [0, rows[0]["robot_x_cm"]], "k^-", label="robot")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("right (cm)")

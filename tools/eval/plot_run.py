@@ -19,7 +19,9 @@ a grey marker without its ellipse, and counted in the legend; one outside the ax
 
 The estimates are expressed in the ground truth's frame by anchoring their first pose on the
 ground truth's pose at that time (as cleanslam-eval --align none does); --no-anchor plots them
-as they are.
+as they are. The ATE printed, in the titles and in the legends is cleanslam-eval --align none's
+(the 3-D position RMSE, both trajectories relative to their first pose): the figure tools/demo.sh
+prints.
 """
 import argparse
 import math
@@ -32,6 +34,7 @@ try:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import numpy as np
+    from cleanslam_eval import trajectory
     from matplotlib.patches import Ellipse, Rectangle
 except ModuleNotFoundError as e:
     print(f"plot_run.py: {sys.executable} has no module '{e.name}'. Run it with Debian's "
@@ -46,53 +49,14 @@ def fail(msg):
     sys.exit(1)
 
 
-def read_tum(path):
-    rows = []
-    with open(path) as f:
-        for n, line in enumerate(f, 1):
-            s = line.strip()
-            if not s or s.startswith("#"):
-                continue
-            p = s.replace(",", " ").split()
-            if len(p) != 8:
-                fail(f"{path}:{n}: expected 8 fields (t x y z qx qy qz qw), got {len(p)}")
-            try:
-                rows.append([float(v) for v in p])
-            except ValueError:
-                fail(f"{path}:{n}: expected numbers")
-    if not rows:
-        fail(f"{path}: no poses")
-    a = np.array(rows)
-    t = a[:, 0]
-    qx, qy, qz, qw = a[:, 4], a[:, 5], a[:, 6], a[:, 7]
-    yaw = np.arctan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-    return t, a[:, 1:4], yaw
-
-
-def read_groundtruth(path):
-    rows = []
-    with open(path) as f:
-        header = f.readline().strip()
-        if not header.startswith("#t_ns,x_m,y_m,z_m,qw,qx,qy,qz"):
-            fail(f"{path}:1: expected the header #t_ns,x_m,y_m,z_m,qw,qx,qy,qz")
-        for n, line in enumerate(f, 2):
-            s = line.strip()
-            if not s:
-                continue
-            p = s.split(",")
-            if len(p) != 8:
-                fail(f"{path}:{n}: expected 8 fields, got {len(p)}")
-            try:
-                rows.append([float(v) for v in p])
-            except ValueError:
-                fail(f"{path}:{n}: expected numbers")
-    if not rows:
-        fail(f"{path}: no poses")
-    a = np.array(rows)
-    t = a[:, 0] * 1e-9
-    qw, qx, qy, qz = a[:, 4], a[:, 5], a[:, 6], a[:, 7]
-    yaw = np.arctan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-    return t, a[:, 1:4], yaw
+def read_poses(reader, path):
+    """The poses of a TUM file or ground truth (reader: trajectory.read_tum or
+    trajectory.read_groundtruth), and their yaw."""
+    try:
+        poses = reader(path)
+    except ValueError as e:
+        fail(str(e))
+    return poses, trajectory.yaw(poses.wxyz)
 
 
 def read_landmarks(path):
@@ -116,17 +80,14 @@ def read_landmarks(path):
     return np.array(out).reshape(-1, 5)
 
 
-def interp_gt(gt_t, gt_p, t):
-    return np.stack([np.interp(t, gt_t, gt_p[:, i]) for i in range(3)], axis=1)
-
-
-def anchor(t, p, yaw, gt_t, gt_p, gt_yaw):
+def anchor(est, yaw, gt):
     """Rigid planar transform that puts the first estimated pose on the ground truth's."""
-    if t[0] < gt_t[0] or t[0] > gt_t[-1]:
+    truth = trajectory.truth_at(gt, int(est.t_ns[0]))
+    if truth is None:
         return 0.0, np.zeros(3)
-    g = interp_gt(gt_t, gt_p, t[:1])[0]
-    gy = np.interp(t[0], gt_t, np.unwrap(gt_yaw))
-    rot = gy - yaw[0]
+    g, q = truth
+    p = est.position
+    rot = trajectory.yaw(q[None, :])[0] - yaw[0]
     c, s = math.cos(rot), math.sin(rot)
     shift = g - np.array([c * p[0, 0] - s * p[0, 1], s * p[0, 0] + c * p[0, 1], p[0, 2]])
     return rot, shift
@@ -184,12 +145,17 @@ def plural(n, word):
     return f"{n} {word}" + ("" if n == 1 else "s")
 
 
-def ate(t, p, gt_t, gt_p):
-    m = (t >= gt_t[0]) & (t <= gt_t[-1])
-    if not m.any():
-        return float("nan")
-    g = interp_gt(gt_t, gt_p, t[m])
-    return float(np.sqrt(np.mean(np.sum((p[m, :2] - g[:, :2]) ** 2, axis=1))))
+def errors(gt_path, tum_path):
+    """The 3-D position errors of cleanslam-eval --align none (their RMSE is its ATE), or None
+    when no pose lies within the ground truth."""
+    try:
+        return trajectory.evaluate_files(gt_path, tum_path)
+    except ValueError:
+        return None
+
+
+def ate_text(e):
+    return "-" if e is None else f"{e.ate_rmse:.4f} m"
 
 
 def main():
@@ -220,11 +186,12 @@ def main():
     title = args.title or (f"{os.path.basename(os.path.normpath(run))} on "
                            f"{os.path.basename(dataset_dir)}")
 
-    gt_t, gt_p, gt_yaw = read_groundtruth(args.gt)
-    est_t, est_p, est_yaw = read_tum(traj_path)
-    rot, shift = (0.0, np.zeros(3)) if args.no_anchor else anchor(
-        est_t, est_p, est_yaw, gt_t, gt_p, gt_yaw)
-    est_p = apply(rot, shift, est_p)
+    gt, _ = read_poses(trajectory.read_groundtruth, args.gt)
+    gt_t, gt_p = gt.t, gt.position
+    est, est_yaw = read_poses(trajectory.read_tum, traj_path)
+    est_t = est.t
+    rot, shift = (0.0, np.zeros(3)) if args.no_anchor else anchor(est, est_yaw, gt)
+    est_p = apply(rot, shift, est.position)
     c, s = math.cos(rot), math.sin(rot)
     r_anchor = np.array([[c, -s], [s, c]])
 
@@ -232,10 +199,9 @@ def main():
     for name in ("dead_reckoning_published.tum", "dead_reckoning.tum"):
         dr_path = os.path.join(run, name)
         if os.path.isfile(dr_path):
-            dr_t, dr_p, dr_yaw = read_tum(dr_path)
-            r2, s2 = (0.0, np.zeros(3)) if args.no_anchor else anchor(
-                dr_t, dr_p, dr_yaw, gt_t, gt_p, gt_yaw)
-            dr = (dr_t, apply(r2, s2, dr_p))
+            dr_poses, dr_yaw = read_poses(trajectory.read_tum, dr_path)
+            r2, s2 = (0.0, np.zeros(3)) if args.no_anchor else anchor(dr_poses, dr_yaw, gt)
+            dr = (dr_poses.t, apply(r2, s2, dr_poses.position), errors(args.gt, dr_path))
             break
 
     cov = None
@@ -249,11 +215,12 @@ def main():
         lms = read_landmarks(lm_path)
 
     room = read_room(os.path.join(dataset_dir, "sim_landmarks.csv"))
-    slam_ate = ate(est_t, est_p, gt_t, gt_p)
-    dr_ate = ate(dr[0], dr[1], gt_t, gt_p) if dr is not None else float("nan")
-    ates = f"ATE (xy) SLAM {slam_ate:.3f} m"
-    if dr is not None:
-        ates += f", dead reckoning {dr_ate:.3f} m"
+    slam_err = errors(args.gt, traj_path)
+    slam_ate = ate_text(slam_err)
+    dr_ate = ate_text(dr[2]) if dr is not None else "-"
+    ates = f"ATE SLAM {slam_ate}" + (f", dead reckoning {dr_ate}" if dr is not None else "")
+    print(f"{ates} (3-D RMSE as cleanslam-eval --align none: both relative to their first pose)")
+    ates += " (3-D, as cleanslam-eval)"
 
     # Axes: the trajectories and the room, never the landmarks' ellipses.
     pts = [gt_p[:, :2], est_p[:, :2]]
@@ -274,9 +241,9 @@ def main():
     ax.plot(gt_p[:, 0], gt_p[:, 1], "-", color="0.55", lw=2.6, label="ground truth")
     if dr is not None:
         ax.plot(dr[1][:, 0], dr[1][:, 1], "-", color="tab:orange", lw=0.8,
-                label=f"dead reckoning (ATE {dr_ate:.3f} m)")
+                label=f"dead reckoning (ATE {dr_ate})")
     ax.plot(est_p[:, 0], est_p[:, 1], "-", color="tab:blue", lw=1.0,
-            label=f"SLAM estimate (ATE {slam_ate:.3f} m)")
+            label=f"SLAM estimate (ATE {slam_ate})")
     ax.plot(gt_p[0, 0], gt_p[0, 1], "ko", ms=6, label="start")
     if lms is not None and len(lms):
         xy = (r_anchor @ lms[:, 0:2].T).T + shift[:2]
@@ -296,11 +263,13 @@ def main():
                                  fill=False, color="r", lw=0.6))
         if good:
             g = np.array(good)
-            ax.plot(g[:, 0], g[:, 1], "r+", ms=6, label=f"{plural(len(good), 'landmark')} (1σ ellipses)")
+            ax.plot(g[:, 0], g[:, 1], "r+", ms=6,
+                    label=f"{plural(len(good), 'landmark')} (1σ ellipses)")
         if vague:
             g = np.array(vague)
             ax.plot(g[:, 0], g[:, 1], "x", color="0.5", ms=5,
-                    label=f"{plural(len(vague), 'landmark')} with σ > {args.max_sigma:g} m (no ellipse)")
+                    label=f"{plural(len(vague), 'landmark')} with σ > {args.max_sigma:g} m "
+                    "(no ellipse)")
         if outside:
             ax.plot([], [], " ", label=f"{plural(outside, 'landmark')} outside the plotted area")
         print(f"landmarks: {plural(len(good), 'landmark')} with ellipses, "
@@ -321,25 +290,25 @@ def main():
     # Fig. 14: position error against time, and SLAM's x and y error within +-3 sigma.
     t0 = gt_t[0]
 
-    def err(t, p):
-        m = (t >= gt_t[0]) & (t <= gt_t[-1])
-        g = interp_gt(gt_t, gt_p, t[m])
-        return m, t[m] - t0, p[m, :2] - g[:, :2]
+    def err(poses, p):
+        m = (poses.t_ns >= gt.t_ns[0]) & (poses.t_ns <= gt.t_ns[-1])
+        g = np.array([trajectory.truth_at(gt, int(t))[0] for t in poses.t_ns[m]])
+        return m, poses.t[m] - t0, p[m, :2] - g[:, :2]
 
     rows = 3 if cov is not None else 1
     fig, axes = plt.subplots(rows, 1, figsize=(9, 3 + 2.2 * (rows - 1)), sharex=True,
                              squeeze=False)
     axes = axes[:, 0]
     ax = axes[0]
-    if dr is not None:
-        _, tt, e = err(dr[0], dr[1])
-        ax.plot(tt, np.linalg.norm(e, axis=1), "-", color="tab:orange", lw=0.8,
-                label=f"dead reckoning (ATE {dr_ate:.3f} m)")
-    m, tt, e = err(est_t, est_p)
-    ax.plot(tt, np.linalg.norm(e, axis=1), "-", color="tab:blue", lw=1.0,
-            label=f"SLAM estimate (ATE {slam_ate:.3f} m)")
-    ax.set_ylabel("position error [m]")
-    ax.set_title(f"{title}\nposition error (xy): {ates}", fontsize=10)
+    if dr is not None and dr[2] is not None:
+        ax.plot(dr[2].t - t0, np.linalg.norm(dr[2].error, axis=1), "-", color="tab:orange",
+                lw=0.8, label=f"dead reckoning (ATE {dr_ate})")
+    if slam_err is not None:
+        ax.plot(slam_err.t - t0, np.linalg.norm(slam_err.error, axis=1), "-", color="tab:blue",
+                lw=1.0, label=f"SLAM estimate (ATE {slam_ate})")
+    m, tt, e = err(est, est_p)
+    ax.set_ylabel("position error (3-D) [m]")
+    ax.set_title(f"{title}\nposition error: {ates}", fontsize=10)
     ax.grid(True, lw=0.3)
     ax.legend(loc="upper left", fontsize=8)
     if cov is not None:
