@@ -128,33 +128,7 @@ step "evaluate against ground truth"
 "$bin/cleanslam-eval" --gt "$out/dataset/groundtruth.csv" --est "$out/run/trajectory.tum" --json >"$out/slam.json"
 "$bin/cleanslam-eval" --gt "$out/dataset/groundtruth.csv" --est "$out/run/dead_reckoning_published.tum" \
   --json >"$out/dead_reckoning.json"
-python3 - "$out/slam.json" "$out/dead_reckoning.json" <<'PY'
-import json, sys
-slam, dr = (json.load(open(p)) for p in sys.argv[1:3])
-rows = [("ATE RMSE [m]", "ate_rmse_m"), ("final position error [m]", "final_error_m"),
-        ("orientation RMSE [deg]", "orientation_rmse_deg"),
-        ("RPE per metre [m/m]", "rpe_translation_per_m"), ("RPE per metre [deg/m]", "rpe_rotation_deg_per_m")]
-print(f"{'':28s}{'SLAM':>12s}{'dead reckoning':>18s}")
-for label, key in rows:
-    if key in slam and key in dr:
-        print(f"{label:28s}{slam[key]:12.4f}{dr[key]:18.4f}")
-print(f"{'poses evaluated':28s}{slam['poses_evaluated']:12d}{dr['poses_evaluated']:18d}")
-if "path_length_m" in slam:
-    print(f"{'path length [m]':28s}{slam['path_length_m']:12.2f}")
-print("SLAM is evaluated at the processed frames; dead reckoning (wheels and gyro alone) at every")
-print("published pose (loop.publish_rate_hz): the same time stamps in images and features mode.")
-if slam.get("nees_ratio") is not None:
-    print(f"position NEES: {slam['nees_mean']:.2f}, {slam['nees_ratio']:.2f} x its consistent value 3 "
-          f"(95 % band {slam['nees_ratio_low']:.2f}-{slam['nees_ratio_high']:.2f}): "
-          f"{slam['nees_verdict']}")
-    words = {"overconfident": "the errors are larger than the covariance claims",
-             "conservative": "the covariance claims larger errors than there are",
-             "consistent": "the errors match the covariance"}
-    print(f"  ({words.get(slam['nees_verdict'], '')}; "
-          f"{100 * slam['nees_fraction_in_95']:.0f} % of poses inside their own 95 % bounds)")
-if slam.get("ate_rmse_m") and dr.get("ate_rmse_m"):
-    print(f"SLAM ATE is {dr['ate_rmse_m'] / slam['ate_rmse_m']:.1f}x smaller than dead reckoning's")
-PY
+/usr/bin/python3 tools/eval/demo_summary.py "$out/slam.json" "$out/dead_reckoning.json"
 
 step "plots -> $out/"
 /usr/bin/python3 tools/eval/plot_run.py "$out/run" --gt "$out/dataset/groundtruth.csv" --out "$out" \
