@@ -36,5 +36,13 @@ run "$CAL" gyro "$WORK/still" --min-duration 30 --form sensors >"$WORK/gyro.yaml
 grep -q "^gyro:" "$WORK/gyro.yaml" || fail "--form sensors: no top-level gyro"
 grep -q "^  noise_density: 0.000" "$WORK/gyro.yaml" || fail "no noise density"
 expect 1 "$WORK/moving.err" "encoders.csv: line" "$CAL" gyro "$WORK/drive"
+# The mount from the board on the floor, through the recording's intrinsics.
+run "$BIN/cleanslam-sim" calibration-mount "$WORK/floor" >/dev/null 2>&1 || fail "cleanslam-sim floor"
+run "$CAL" mount "$WORK/floor/cam0/data" --board 9x6 --square 0.03 --at 0.475,-0.02 --yaw 90 \
+  --intrinsics "$WORK/floor/sensors.yaml" --form sensors >"$WORK/mount.yaml" 2>"$WORK/mount.err" ||
+  { cat "$WORK/mount.err" >&2; fail "mount"; }
+grep -q "^  T_body_cam:$" "$WORK/mount.yaml" || fail "no T_body_cam"
+grep -q "the camera is 0.25[0-9] m up" "$WORK/mount.yaml" || fail "the camera's height is not 0.25 m"
+expect 2 "$WORK/noat.err" "--at X,Y" "$CAL" mount "$WORK/floor/cam0/data" --board 9x6 --square 0.03
 expect 2 "$WORK/unknown.err" "unknown command" "$CAL" allan "$WORK/still"
 echo "PASS"

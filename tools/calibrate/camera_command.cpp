@@ -28,12 +28,6 @@ void camera_usage(std::FILE* out) {
       kProgram, kOutputUsage);
 }
 
-// "9x6" into its two numbers; false when it is not two positive integers.
-bool two_sizes(const std::string& text, int& a, int& b) {
-  char tail = 0;
-  return std::sscanf(text.c_str(), "%dx%d%c", &a, &b, &tail) == 2 && a > 0 && b > 0;
-}
-
 }  // namespace
 
 int camera_command(int argc, char** argv) {
@@ -46,21 +40,13 @@ int camera_command(int argc, char** argv) {
     return 0;
   }
   Checkerboard board;
-  board.square_m = line.number("--square", 0.0);
   CameraCalibrationOptions options;
   options.min_views = static_cast<int>(line.number("--min-views", options.min_views));
   options.min_coverage = line.number("--min-coverage", options.min_coverage);
   options.max_rms_px = line.number("--max-rms", options.max_rms_px);
   int width = 0, height = 0;
   if (line.error.empty() && line.positional.size() != 1) line.error = "expected one FOLDER";
-  if (line.error.empty() &&
-      (!line.has("--board") || !two_sizes(line.values.at("--board"), board.cols, board.rows))) {
-    line.error = "--board: expected the inner corners as COLSxROWS, e.g. 9x6, got \"" +
-                 (line.has("--board") ? line.values.at("--board") : std::string()) + "\"";
-  }
-  if (line.error.empty() && !(board.square_m > 0.0)) {
-    line.error = "--square METRES: the side of a square is needed (positive)";
-  }
+  if (line.error.empty()) read_board(line, board);
   if (line.error.empty() && line.has("--size") &&
       !two_sizes(line.values.at("--size"), width, height)) {
     line.error = "--size: expected WxH, e.g. 320x240, got \"" + line.values.at("--size") + "\"";

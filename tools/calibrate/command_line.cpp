@@ -54,6 +54,22 @@ CommandLine parse_command_line(int argc, char** argv, int first,
   return line;
 }
 
+bool two_sizes(const std::string& text, int& a, int& b) {
+  char tail = 0;
+  return std::sscanf(text.c_str(), "%dx%d%c", &a, &b, &tail) == 2 && a > 0 && b > 0;
+}
+
+void read_board(CommandLine& line, Checkerboard& board) {
+  board.square_m = line.number("--square", 0.0);
+  if (!line.error.empty()) return;
+  if (!line.has("--board") || !two_sizes(line.values.at("--board"), board.cols, board.rows)) {
+    line.error = "--board: expected the inner corners as COLSxROWS, e.g. 9x6, got \"" +
+                 (line.has("--board") ? line.values.at("--board") : std::string()) + "\"";
+  } else if (!(board.square_m > 0.0)) {
+    line.error = "--square METRES: the side of a square is needed (positive)";
+  }
+}
+
 void tell(const char* command, const std::string& message) {
   std::fprintf(stderr, "cleanslam-calibrate %s: %s\n", command, message.c_str());
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cleanslam/calibrate/calibration_yaml.hpp"
+#include "cleanslam/calibrate/camera_calibration.hpp"
 #include "cleanslam/readers/dataset.hpp"
 
 // The command line shared by cleanslam-calibrate's subcommands: positional arguments, options
@@ -36,6 +37,12 @@ inline constexpr const char* kOutputUsage =
     "               configuration; sensors: at the top level, as in a dataset's sensors.yaml\n"
     "  --base FILE  write a complete sensors.yaml: FILE's with the measured keys replaced\n"
     "  --force      replace an existing --out file\n";
+
+// "9x6" into its two numbers; false when it is not two positive integers.
+bool two_sizes(const std::string& text, int& a, int& b);
+// --board COLSxROWS and --square METRES into `board`; sets the line's error (naming the option and
+// the value) when either is absent or malformed.
+void read_board(CommandLine& line, Checkerboard& board);
 
 // Prints "cleanslam-calibrate COMMAND: message" on stderr.
 void tell(const char* command, const std::string& message);

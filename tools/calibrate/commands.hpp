@@ -8,5 +8,6 @@ inline constexpr const char* kProgram = "cleanslam-calibrate";
 int wheels_command(int argc, char** argv);  // argv[0] is "wheels"
 int gyro_command(int argc, char** argv);
 int camera_command(int argc, char** argv);
+int mount_command(int argc, char** argv);
 
 }  // namespace cleanslam::calibrate

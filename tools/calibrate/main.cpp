@@ -1,4 +1,4 @@
-// cleanslam-calibrate wheels|gyro|camera ...: measures a robot's calibration (the keys of
+// cleanslam-calibrate wheels|gyro|camera|mount ...: measures a robot's calibration (the keys of
 // sensors.yaml and of the firmware configuration's `calibration` section) from recordings.
 #include <cstdio>
 #include <string_view>
@@ -16,7 +16,10 @@ void usage(std::FILE* out) {
                "                                    standstill (Allan deviation)\n"
                "  camera FOLDER --board COLSxROWS --square METRES\n"
                "                                    intrinsics and distortion from checkerboard\n"
-               "                                    images\n");
+               "                                    images\n"
+               "  mount FOLDER --board COLSxROWS --square METRES --at X,Y --yaw DEG\n"
+               "        --intrinsics SENSORS.yaml   the camera's mount T_body_cam from a board\n"
+               "                                    on the floor\n");
 }
 
 }  // namespace
@@ -35,6 +38,7 @@ int main(int argc, char** argv) {
   if (command == "wheels") return cal::wheels_command(argc - 1, argv + 1);
   if (command == "gyro") return cal::gyro_command(argc - 1, argv + 1);
   if (command == "camera") return cal::camera_command(argc - 1, argv + 1);
+  if (command == "mount") return cal::mount_command(argc - 1, argv + 1);
   std::fprintf(stderr, "cleanslam-calibrate: unknown command \"%s\"\n", argv[1]);
   usage(stderr);
   return 2;

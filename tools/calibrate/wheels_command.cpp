@@ -67,6 +67,10 @@ int wheels_command(int argc, char** argv) {
       "Gyro bias " + significant(c->gyro_bias_rad_s, 3) + " rad/s from the first " +
           fixed(c->standstill_s, 1) + " s standing still; the gyro's scale is taken as exact.",
   };
+  if (c->mixed_intervals > 0) {
+    r.method.push_back(std::to_string(c->mixed_intervals) +
+                       " encoder intervals with one wheel still were left out (neither kind).");
+  }
   r.keys = {
       {"wheels", "ticks_per_meter_left", {c->ticks_per_meter_left}, false, "ticks per metre"},
       {"wheels", "ticks_per_meter_right", {c->ticks_per_meter_right}, false, "ticks per metre"},

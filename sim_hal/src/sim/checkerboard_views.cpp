@@ -60,6 +60,14 @@ Pose3 checkerboard_pose(const Scenario& sc, int index, Random& rng) {
   return cb;
 }
 
+Pose3 checkerboard_on_floor_pose(const Scenario& sc) {
+  const auto& f = *sc.checkerboard.on_floor;
+  const Pose3 body_board{rot_z(f[2] * kRadPerDegree), Vec3{f[0], f[1], 0.0}};
+  const Pose3 body_camera = body_to_camera(sc.camera);
+  const Mat3 camera_body = transpose(body_camera.rotation);
+  return compose(Pose3{camera_body, -1.0 * (camera_body * body_camera.position)}, body_board);
+}
+
 CheckerboardRenderer::CheckerboardRenderer(const Scenario& sc)
     : camera_(sc.camera), board_(sc.checkerboard) {
   rays_.reserve(static_cast<std::size_t>(camera_.width) * static_cast<std::size_t>(camera_.height) *

@@ -393,6 +393,14 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
     b.cols = read_int(m, "cols", b.cols);
     b.rows = read_int(m, "rows", b.rows);
     b.square_m = m.optional_double("square_m", b.square_m);
+    if (const Node* floor = m.node("on_floor"); floor != nullptr) {
+      auto xyz = readers::yaml::as_doubles(*floor, "checkerboard.on_floor", 3);
+      if (!xyz.ok()) {
+        diag.errors.push_back(xyz.error());
+      } else {
+        b.on_floor = std::array<double, 3>{(*xyz)[0], (*xyz)[1], (*xyz)[2]};
+      }
+    }
     m.report_unknown_keys();
   }
   r.report_unknown_keys();

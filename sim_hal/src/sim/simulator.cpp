@@ -336,7 +336,10 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
       if (write_features) writer.add_features(stamp, obs.data(), static_cast<int>(obs.size()));
       if (write_images) {
         if (checkerboard) {
-          board_renderer->render(checkerboard_pose(sc, static_cast<int>(k), rng), image_rng, image);
+          const Pose3 board = sc.checkerboard.on_floor
+                                  ? checkerboard_on_floor_pose(sc)
+                                  : checkerboard_pose(sc, static_cast<int>(k), rng);
+          board_renderer->render(board, image_rng, image);
         } else {
           frame_exposure.render(*renderer, traj, t, image_rng, image);
         }

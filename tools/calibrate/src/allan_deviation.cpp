@@ -21,12 +21,18 @@ double allan_variance(const std::vector<double>& theta, std::size_t m, double dt
   return sum / (2.0 * tau * tau * static_cast<double>(n - 2 * m + 1));
 }
 
+// The angle integrated from the rates: theta[k] after k samples.
+std::vector<double> integrated_angles(const std::vector<double>& rates, double dt) {
+  std::vector<double> theta(rates.size() + 1, 0.0);
+  for (std::size_t k = 0; k < rates.size(); ++k) theta[k + 1] = theta[k] + rates[k] * dt;
+  return theta;
+}
+
 }  // namespace
 
 std::vector<AllanPoint> allan_deviation(const std::vector<double>& rates, double dt,
                                         int per_decade) {
-  std::vector<double> theta(rates.size() + 1, 0.0);
-  for (std::size_t k = 0; k < rates.size(); ++k) theta[k + 1] = theta[k] + rates[k] * dt;
+  const std::vector<double> theta = integrated_angles(rates, dt);
   std::vector<AllanPoint> out;
   const std::size_t max_m = rates.size() / 9;
   std::size_t last = 0;
@@ -89,8 +95,7 @@ readers::Result<GyroNoise> gyro_noise(const readers::Dataset& d, const GyroNoise
   out.curve = allan_deviation(rates, dt);
   // At tau = 1 s exactly (one cluster of round(1 / dt) samples).
   {
-    std::vector<double> theta(rates.size() + 1, 0.0);
-    for (std::size_t k = 0; k < rates.size(); ++k) theta[k + 1] = theta[k] + rates[k] * dt;
+    const std::vector<double> theta = integrated_angles(rates, dt);
     const auto m = static_cast<std::size_t>(std::max(1L, std::lround(1.0 / dt)));
     const double tau = static_cast<double>(m) * dt;
     out.noise_density = std::sqrt(allan_variance(theta, m, dt) * tau);

@@ -12,13 +12,20 @@
 namespace cleanslam::calibrate {
 namespace {
 
-std::string value_text(const MeasuredKey& k) {
+// The key's value in flow style after its colon (a space first, or a new line); `indent` is
+// the key's own.
+std::string value_text(const MeasuredKey& k, const std::string& indent) {
   auto one = [&](double v) {
     return k.integer ? std::to_string(std::lround(v)) : readers::format_double(v);
   };
-  if (k.values.size() == 1) return one(k.values.front());
-  std::string s = "[";
-  for (std::size_t i = 0; i < k.values.size(); ++i) s += (i ? ", " : "") + one(k.values[i]);
+  std::string s = " ";
+  if (k.values.size() == 1) return s.append(one(k.values.front()));
+  // A 4 x 4 matrix (camera.T_body_cam) a row a line, as in sensors.yaml.
+  const std::string next_row = k.values.size() == 16 ? ",\n" + indent + "   " : ", ";
+  s = k.values.size() == 16 ? "\n" + indent + "  [" : " [";
+  for (std::size_t i = 0; i < k.values.size(); ++i) {
+    s += (i == 0 ? "" : (i % 4 == 0 ? next_row : ", ")) + one(k.values[i]);
+  }
   return s + "]";
 }
 
@@ -79,7 +86,7 @@ std::string calibration_yaml_text(const CalibrationResult& r, YamlForm form) {
       section = k.section;
       s += indent + section + ":\n";
     }
-    s += indent + "  " + k.key + ": " + value_text(k);
+    s += indent + "  " + k.key + ":" + value_text(k, indent + "  ");
     if (!k.comment.empty()) s += "  # " + k.comment;
     s += "\n";
   }
@@ -96,7 +103,7 @@ readers::Result<std::string> sensors_yaml_with(const std::string& base_path,
   for (const MeasuredKey& k : r.keys) {
     if (!apply(k, c))
       return YamlResult::failure(k.section + "." + k.key + ": not a sensors.yaml key");
-    s += "#   " + k.section + "." + k.key + ": " + value_text(k) +
+    s += "#   " + k.section + "." + k.key + ":" + value_text(k, "#  ") +
          (k.comment.empty() ? "" : " (" + k.comment + ")") + "\n";
   }
   s += readers::sensors_yaml_text(c);

@@ -6,6 +6,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include "board_corners.hpp"
 #include "cleanslam/calibrate/text.hpp"
 
 namespace cleanslam::calibrate {
@@ -70,7 +71,6 @@ CameraResult calibrate_camera(const std::vector<std::string>& images, const Chec
         "square size is needed");
   }
   CameraCalibration c;
-  const cv::Size pattern(board.cols, board.rows);
   std::vector<std::vector<cv::Point2f>> corners;
   std::array<double, 4> box{1e300, 1e300, -1e300, -1e300};
   for (const std::string& file : images) {
@@ -87,11 +87,8 @@ CameraResult calibrate_camera(const std::vector<std::string>& images, const Chec
     }
     ++c.images;
     std::vector<cv::Point2f> found;
-    const bool ok = cv::findChessboardCorners(
-        gray, pattern, found, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
+    const bool ok = find_board_corners(gray, board, found);
     if (ok) {
-      cv::cornerSubPix(gray, found, cv::Size(5, 5), cv::Size(-1, -1),
-                       cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.01));
       for (const cv::Point2f& p : found) {
         box = {std::min(box[0], double{p.x}), std::min(box[1], double{p.y}),
                std::max(box[2], double{p.x}), std::max(box[3], double{p.y})};

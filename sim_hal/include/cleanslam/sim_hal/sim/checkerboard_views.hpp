@@ -18,6 +18,10 @@ namespace cleanslam::sim_hal::sim {
 // `cols`, y along `rows`, z into the board.
 Pose3 checkerboard_pose(const Scenario& scenario, int index, Random& rng);
 
+// The board's pose in the camera's optical frame when it lies on the floor (checkerboard.on_floor),
+// seen through the camera's mount (body_to_camera).
+Pose3 checkerboard_on_floor_pose(const Scenario& scenario);
+
 // Renders the board (with a white border one square wide, on a grey background): 16 rays per
 // pixel, traced once through the camera model at construction; camera.image_noise gray levels of
 // noise.

@@ -181,6 +181,10 @@ struct Scenario {
     int cols = 9;  // inner corners along the board's x
     int rows = 6;
     double square_m = 0.03;
+    // Set: the board lies on the floor, its first inner corner at (x, y) in the body frame, its
+    // cols along yaw_deg from the body's x axis, seen through the camera's mount in every frame
+    // (the mount's calibration); unset: a pose of its own in each frame.
+    std::optional<std::array<double, 3>> on_floor;  // x, y, yaw_deg
   } checkerboard;
 
   [[nodiscard]] std::uint64_t world_seed() const { return world.seed.value_or(seed); }
