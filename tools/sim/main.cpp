@@ -113,8 +113,9 @@ int main(int argc, char** argv) {
             positional[1].c_str());
         return 1;
       }
-      for (const char* f : {"sensors.yaml", "gyro.csv", "encoders.csv", "features.csv",
-                            "groundtruth.csv", "sim_landmarks.csv", "cam0"}) {
+      for (const char* f :
+           {"sensors.yaml", "gyro.csv", "encoders.csv", "features.csv", "groundtruth.csv",
+            "sim_landmarks.csv", "sim_truth.yaml", "lift.csv", "cam0"}) {
         fs::remove_all(out / f, ec);
         if (ec) {
           std::fprintf(stderr, "cleanslam-sim: %s: cannot remove: %s\n", (out / f).c_str(),

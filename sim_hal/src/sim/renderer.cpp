@@ -24,8 +24,8 @@ std::int64_t cell(double x, double size) {
   return static_cast<std::int64_t>(std::floor(x / size));
 }
 
-// Pixel ray of the pinhole with radial-tangential distortion: undistorts (u, v) by fixed-point
-// iteration.
+}  // namespace
+
 Vec3 pixel_ray(const Scenario::Camera& c, double u, double v) {
   const double xd = (u - c.cx) / c.fx, yd = (v - c.cy) / c.fy;
   double x = xd, y = yd;
@@ -41,8 +41,6 @@ Vec3 pixel_ray(const Scenario::Camera& c, double u, double v) {
   const Vec3 r{x, y, 1.0};
   return (1.0 / norm(r)) * r;
 }
-
-}  // namespace
 
 Renderer::Renderer(const Scenario& sc)
     : camera_(sc.camera),

@@ -274,6 +274,9 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
         }
       }
     }
+    p.straight_m = m.optional_double("straight_m", p.straight_m);
+    p.spin_turns = m.optional_double("spin_turns", p.spin_turns);
+    p.settle_s = m.optional_double("settle_s", p.settle_s);
     p.min_speed = m.optional_double("min_speed", p.min_speed);
     p.max_speed = m.optional_double("max_speed", p.max_speed);
     p.min_run = m.optional_double("min_run", p.min_run);
@@ -287,9 +290,12 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
     p.kidnap_skip_s = m.optional_double("kidnap_skip_s", p.kidnap_skip_s);
     p.lift_duration_s = m.optional_double("lift_duration_s", p.lift_duration_s);
     m.report_unknown_keys();
-    if (p.type != "boustrophedon" && p.type != "wander" && p.type != "waypoints") {
-      diag.errors.push_back("path.type: expected boustrophedon, wander or waypoints, got \"" +
-                            p.type + "\"");
+    if (p.type != "boustrophedon" && p.type != "wander" && p.type != "waypoints" &&
+        p.type != "calibration" && p.type != "standstill") {
+      diag.errors.push_back(
+          "path.type: expected boustrophedon, wander, waypoints, calibration or "
+          "standstill, got \"" +
+          p.type + "\"");
     }
   }
   {
@@ -343,9 +349,10 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
       diag.errors.push_back("camera.textures: expected procedural or photos, got \"" + c.textures +
                             "\"");
     }
-    if (c.mode != "features" && c.mode != "images" && c.mode != "both") {
-      diag.errors.push_back("camera.mode: expected features, images or both, got \"" + c.mode +
-                            "\"");
+    if (c.mode != "features" && c.mode != "images" && c.mode != "both" &&
+        c.mode != "checkerboard") {
+      diag.errors.push_back("camera.mode: expected features, images, both or checkerboard, got \"" +
+                            c.mode + "\"");
     }
     if (c.image_format != "png" && c.image_format != "pgm") {
       diag.errors.push_back("camera.image_format: expected png or pgm, got \"" + c.image_format +
@@ -380,6 +387,22 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
     sc.groundtruth.rate_hz = m.optional_double("rate_hz", sc.groundtruth.rate_hz);
     m.report_unknown_keys();
   }
+  {
+    MappingReader m = r.optional_mapping("checkerboard");
+    auto& b = sc.checkerboard;
+    b.cols = read_int(m, "cols", b.cols);
+    b.rows = read_int(m, "rows", b.rows);
+    b.square_m = m.optional_double("square_m", b.square_m);
+    if (const Node* floor = m.node("on_floor"); floor != nullptr) {
+      auto xyz = readers::yaml::as_doubles(*floor, "checkerboard.on_floor", 3);
+      if (!xyz.ok()) {
+        diag.errors.push_back(xyz.error());
+      } else {
+        b.on_floor = std::array<double, 3>{(*xyz)[0], (*xyz)[1], (*xyz)[2]};
+      }
+    }
+    m.report_unknown_keys();
+  }
   r.report_unknown_keys();
   // In a scenario a misspelt key would silently keep a default: unknown keys are errors.
   for (std::string w : diag.warnings) {
@@ -393,6 +416,10 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
   positive(sc.gyro.rate_hz, "gyro.rate_hz");
   positive(sc.encoders.rate_hz, "encoders.rate_hz");
   positive(sc.groundtruth.rate_hz, "groundtruth.rate_hz");
+  positive(sc.checkerboard.square_m, "checkerboard.square_m");
+  if (sc.checkerboard.cols < 2 || sc.checkerboard.rows < 2) {
+    diag.errors.push_back("checkerboard.cols, rows: at least 2 inner corners each");
+  }
   positive(sc.camera.fx, "camera.fx");
   positive(sc.camera.fy, "camera.fy");
   positive(sc.robot.wheel_base, "robot.wheel_base");
@@ -405,9 +432,16 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
       sc.camera.height > 4096) {
     diag.errors.push_back("camera.width/height: out of range");
   }
-  if (sc.path.type == "boustrophedon" || sc.path.type == "waypoints") {
+  if (sc.path.type == "boustrophedon" || sc.path.type == "waypoints" ||
+      sc.path.type == "calibration") {
     positive(sc.path.speed, "path.speed");
   }
+  if (sc.path.type == "calibration") {
+    positive(sc.path.straight_m, "path.straight_m");
+    positive(sc.path.spin_turns, "path.spin_turns");
+    positive(sc.path.settle_s, "path.settle_s");
+  }
+  if (sc.path.type == "standstill") positive(sc.duration_s, "duration_s (a standstill needs it)");
   if (sc.path.type == "waypoints") {
     for (std::string& e : waypoint_path_errors(sc)) diag.errors.push_back(std::move(e));
   }

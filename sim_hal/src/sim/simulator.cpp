@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "cleanslam/sim_hal/dataset_writer.hpp"
+#include "cleanslam/sim_hal/sim/checkerboard_views.hpp"
 #include "cleanslam/sim_hal/sim/frame_exposure.hpp"
 #include "cleanslam/sim_hal/sim/random.hpp"
 #include "cleanslam/sim_hal/sim/renderer.hpp"
@@ -29,6 +30,40 @@ std::int32_t wrap32(std::int64_t v) {
 }
 
 }  // namespace
+
+readers::Status write_sim_truth(const Scenario& sc, const std::string& path) {
+  using readers::format_double;
+  const auto& e = sc.encoders;
+  const auto& g = sc.gyro;
+  const auto& c = sc.camera;
+  std::ofstream out(path, std::ios::trunc);
+  out << "# The simulator's true sensor constants (scenario " << sc.name << ", seed " << sc.seed
+      << "), against which a\n# calibration (tools/calibrate) is checked; sensors.yaml holds the "
+         "nominal ones.\nwheels:\n"
+      << "  ticks_per_meter_left: "
+      << format_double(sc.robot.ticks_per_meter * (1.0 + e.scale_error_left))
+      << "   # robot.ticks_per_meter * (1 + encoders.scale_error_left)\n"
+      << "  ticks_per_meter_right: "
+      << format_double(sc.robot.ticks_per_meter * (1.0 + e.scale_error_right))
+      << "  # robot.ticks_per_meter * (1 + encoders.scale_error_right)\n"
+      << "  wheel_base: " << format_double(sc.robot.wheel_base * (1.0 + e.wheel_base_error))
+      << "  # robot.wheel_base * (1 + encoders.wheel_base_error)\n"
+      << "gyro:\n"
+      << "  noise_density: " << format_double(g.noise_density) << "  # rad/s/sqrt(Hz)\n"
+      << "  initial_bias: " << format_double(g.initial_bias) << "  # rad/s\n"
+      << "  bias_walk: " << format_double(g.bias_walk) << "  # rad/s/sqrt(s)\n"
+      << "  scale_error: " << format_double(g.scale_error) << "\n"
+      << "camera:\n"
+      << "  fx: " << format_double(c.fx) << "\n"
+      << "  fy: " << format_double(c.fy) << "\n"
+      << "  cx: " << format_double(c.cx) << "\n"
+      << "  cy: " << format_double(c.cy) << "\n"
+      << "  distortion: [" << format_double(c.distortion[0]) << ", "
+      << format_double(c.distortion[1]) << ", " << format_double(c.distortion[2]) << ", "
+      << format_double(c.distortion[3]) << "]\n";
+  if (!out) return readers::Status::failure(path + ": write error");
+  return {};
+}
 
 Pose3 body_to_camera(const Scenario::Camera& c) {
   const double t = c.tilt_deg * kDegToRad;
@@ -245,9 +280,12 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
     Random image_rng(sc.seed, stream::kImage);
     const auto& c = sc.camera;
     const bool write_features = c.mode == "features" || c.mode == "both";
-    const bool write_images = c.mode == "images" || c.mode == "both";
+    const bool checkerboard = c.mode == "checkerboard";
+    const bool write_images = c.mode == "images" || c.mode == "both" || checkerboard;
     std::unique_ptr<Renderer> renderer;
-    if (write_images) renderer = std::make_unique<Renderer>(sc);
+    if (write_images && !checkerboard) renderer = std::make_unique<Renderer>(sc);
+    std::unique_ptr<CheckerboardRenderer> board_renderer;
+    if (checkerboard) board_renderer = std::make_unique<CheckerboardRenderer>(sc);
     readers::GrayImage image;
     FrameExposure frame_exposure(c, body_to_camera(c));
     const double dt = 1.0 / c.rate_hz;
@@ -297,7 +335,14 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
       last_stamp = stamp;
       if (write_features) writer.add_features(stamp, obs.data(), static_cast<int>(obs.size()));
       if (write_images) {
-        frame_exposure.render(*renderer, traj, t, image_rng, image);
+        if (checkerboard) {
+          const Pose3 board = sc.checkerboard.on_floor
+                                  ? checkerboard_on_floor_pose(sc)
+                                  : checkerboard_pose(sc, static_cast<int>(k), rng);
+          board_renderer->render(board, image_rng, image);
+        } else {
+          frame_exposure.render(*renderer, traj, t, image_rng, image);
+        }
         s = writer.add_image(stamp, image.view());
         if (!s) return R::failure(s.error());
       }
@@ -338,6 +383,8 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
     }
     if (!lm) return R::failure(out_dir + "/sim_landmarks.csv: write error");
   }
+  s = write_sim_truth(sc, (std::filesystem::path(out_dir) / "sim_truth.yaml").string());
+  if (!s) return R::failure(s.error());
   s = writer.close();
   if (!s) return R::failure(s.error());
   report(1.0);

@@ -85,6 +85,19 @@ std::vector<Primitive> waypoints(const Scenario& sc, PlanarPose& start) {
   return out;
 }
 
+// The wheels' calibration drive (tools/calibrate wheels): still, straight along +x from the
+// arena's corner at the margin, still, full turns counter-clockwise, still, as many clockwise,
+// still.
+std::vector<Primitive> calibration_drive(const Scenario& sc, PlanarPose& start) {
+  const auto& p = sc.path;
+  start = PlanarPose{p.margin, p.margin, 0.0};
+  const double spin_s = p.spin_turns * 2.0 * kPi / p.turn_rate;
+  return {motion(p.settle_s, 0.0, 0.0), motion(p.straight_m / p.speed, p.speed, 0.0),
+          motion(p.settle_s, 0.0, 0.0), motion(spin_s, 0.0, p.turn_rate),
+          motion(p.settle_s, 0.0, 0.0), motion(spin_s, 0.0, -p.turn_rate),
+          motion(p.settle_s, 0.0, 0.0)};
+}
+
 // Distance from (x, y) along heading `yaw` to the border of the rectangle [lo, hi].
 double distance_to_border(double x, double y, double yaw, double lox, double loy, double hix,
                           double hiy) {
@@ -263,6 +276,11 @@ PathPlan plan_path(const Scenario& sc, Random& rng) {
     plan.primitives = wander(sc, rng, plan.start);
   } else if (sc.path.type == "waypoints") {
     plan.primitives = waypoints(sc, plan.start);
+  } else if (sc.path.type == "calibration") {
+    plan.primitives = calibration_drive(sc, plan.start);
+  } else if (sc.path.type == "standstill") {
+    plan.start = PlanarPose{0.5 * sc.world.size.x, 0.5 * sc.world.size.y, 0.0};
+    plan.primitives = {motion(sc.duration_s, 0.0, 0.0)};
   } else {
     plan.primitives = boustrophedon(sc, plan.start);
   }

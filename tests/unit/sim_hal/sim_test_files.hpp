@@ -7,6 +7,9 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include "cleanslam/sim_hal/sim/scenario.hpp"
 
 // Files of the simulator's tests: a folder per test, removed with it, and whole files read back.
 namespace cleanslam::sim_test {
@@ -29,6 +32,14 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+// A built-in scenario (or file) with overrides; a failure to load fails the test.
+inline sim_hal::sim::Scenario scenario(const std::string& name,
+                                       const std::vector<std::string>& overrides = {}) {
+  auto sc = sim_hal::sim::load_scenario(name, overrides);
+  EXPECT_TRUE(sc.ok()) << (sc.ok() ? "" : sc.error());
+  return sc.ok() ? *sc : sim_hal::sim::Scenario{};
+}
 
 inline std::string slurp(const std::string& p) {
   std::ifstream in(p, std::ios::binary);

@@ -17,6 +17,10 @@
 // pixel's area); with motion blur at least one ray per pixel and pose of the exposure.
 namespace cleanslam::sim_hal::sim {
 
+// Unit ray (optical frame) of the pixel (u, v) through the pinhole with radial-tangential
+// distortion: undistorts (u, v) by fixed-point iteration.
+Vec3 pixel_ray(const Scenario::Camera& camera, double u, double v);
+
 class Renderer {
  public:
   explicit Renderer(const Scenario& scenario);

@@ -68,7 +68,8 @@ struct Scenario {
   } person;
 
   struct Path {
-    std::string type = "boustrophedon";  // boustrophedon | wander | waypoints
+    // boustrophedon | wander | waypoints | calibration | standstill
+    std::string type = "boustrophedon";
     double speed = 0.2;
     double turn_rate = 0.8;  // rad/s, turning in place
     double lane_spacing = 0.3;
@@ -79,6 +80,13 @@ struct Scenario {
     // waypoints: straight runs between the points (x, y), turns in place at each; the robot starts
     // at the first (the dock) facing the second
     std::vector<std::array<double, 2>> waypoints;
+    // calibration (the wheels' calibration drive, tools/calibrate): a standstill of settle_s, a
+    // straight run of straight_m at speed, a standstill of settle_s, spin_turns full turns in place
+    // counter-clockwise, settle_s still, as many clockwise, settle_s still. standstill: the robot
+    // stands still for duration_s (the gyro's noise, tools/calibrate).
+    double straight_m = 3.0;
+    double spin_turns = 2.0;
+    double settle_s = 10.0;
     // wander
     double min_speed = 0.1;
     double max_speed = 0.2;
@@ -105,7 +113,8 @@ struct Scenario {
 
   struct Camera {
     // features: features.csv from the point landmarks; images: rendered cam0/ images;
-    // both: both (the point landmarks are not drawn in the images).
+    // both: both (the point landmarks are not drawn in the images); checkerboard: images of a
+    // planar checkerboard (the `checkerboard` section), not of the room.
     std::string mode = "features";
     int width = 320;
     int height = 240;
@@ -165,6 +174,18 @@ struct Scenario {
   struct GroundTruth {
     double rate_hz = 100.0;
   } groundtruth;
+
+  // camera.mode checkerboard: each frame is a view of this planar board (tools/calibrate camera),
+  // from a pose of its own, through the scenario's camera (intrinsics and distortion).
+  struct Checkerboard {
+    int cols = 9;  // inner corners along the board's x
+    int rows = 6;
+    double square_m = 0.03;
+    // Set: the board lies on the floor, its first inner corner at (x, y) in the body frame, its
+    // cols along yaw_deg from the body's x axis, seen through the camera's mount in every frame
+    // (the mount's calibration); unset: a pose of its own in each frame.
+    std::optional<std::array<double, 3>> on_floor;  // x, y, yaw_deg
+  } checkerboard;
 
   [[nodiscard]] std::uint64_t world_seed() const { return world.seed.value_or(seed); }
 };

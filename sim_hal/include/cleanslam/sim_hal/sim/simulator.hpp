@@ -32,6 +32,10 @@ Pose3 body_to_camera(const Scenario::Camera& camera);
 // true wheel scale and wheel base differ by the scenario's errors).
 hal::Calibration calibration_of(const Scenario& scenario);
 
+// Writes sim_truth.yaml: the true wheel constants (the nominal ones with the scenario's scale and
+// wheel base errors applied), the gyro's noise and bias and the camera's intrinsics.
+readers::Status write_sim_truth(const Scenario& scenario, const std::string& path);
+
 // Pinhole projection with radial-tangential distortion; false when behind the camera.
 bool project(const Scenario::Camera& camera, Vec3 p_cam, double& u, double& v);
 
