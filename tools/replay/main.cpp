@@ -19,6 +19,7 @@
 #include "cleanslam/firmware/output_report.hpp"
 #include "cleanslam/firmware/program.hpp"
 #include "cleanslam/firmware/run.hpp"
+#include "cleanslam/firmware/run_report.hpp"
 #include "cleanslam/firmware/sinks.hpp"
 #include "cleanslam/readers/dataset_source.hpp"
 #include "cleanslam/tools/output_paths.hpp"

@@ -13,6 +13,7 @@
 #include "cleanslam/firmware/loop.hpp"
 #include "cleanslam/firmware/program.hpp"
 #include "cleanslam/firmware/run.hpp"
+#include "cleanslam/firmware/run_report.hpp"
 #include "cleanslam/firmware/sinks.hpp"
 #include "cleanslam/firmware/slam_estimator.hpp"
 #include "cleanslam/readers/dataset_source.hpp"
