@@ -1,6 +1,7 @@
 # cleanslam-calibrate on logs the firmware recorded (cleanslam --record), as a robot maker copies
-# them from the robot: the same figures as the folder recorded from, the frames' images thinned
-# with --every, a later file of a rotated recording warned, refusals naming the file and the fix.
+# them from the robot: the same figures as the folder recorded from, the camera and the mount from
+# the frames' images (thinned with --every), a later file of a rotated recording warned, refusals
+# naming the file and the fix.
 . "$(dirname "$0")/common.sh"
 CAL="$BIN/cleanslam-calibrate"
 record() {  # record DATASET LOG [--set k=v ...]
@@ -44,6 +45,13 @@ grep -qF "rotated.log is file 1 of a rotated recording" "$WORK/rotated.err" ||
   { cat "$WORK/rotated.err" >&2; fail "no rotation warning"; }
 grep -qF "cat $WORK/rotated.log.1 $WORK/rotated.log > joined.log" "$WORK/rotated.err" ||
   fail "no join"
+# The mount from a log of the board on the floor, through the recording's intrinsics.
+run "$BIN/cleanslam-sim" calibration-mount "$WORK/floor" >/dev/null 2>&1 || fail "cleanslam-sim floor"
+record "$WORK/floor" "$WORK/floor.log"
+run "$CAL" mount "$WORK/floor.log" --board 9x6 --square 0.03 --at 0.475,-0.02 --yaw 90 \
+  --intrinsics "$WORK/floor/sensors.yaml" --form sensors >"$WORK/mount.yaml" 2>"$WORK/mount.err" ||
+  { cat "$WORK/mount.err" >&2; fail "mount log"; }
+grep -q "the camera is 0.25[0-9] m up" "$WORK/mount.yaml" || fail "the camera's height is not 0.25 m"
 # A file that is not a log.
 echo "not a log" >"$WORK/notes.txt"
 expect 1 "$WORK/notalog.err" "notes.txt: not a cleanslam log" \
