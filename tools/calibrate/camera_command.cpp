@@ -6,6 +6,7 @@
 #include "cleanslam/calibrate/text.hpp"
 #include "command_line.hpp"
 #include "commands.hpp"
+#include "inputs.hpp"
 
 namespace cleanslam::calibrate {
 namespace {
@@ -13,9 +14,11 @@ namespace {
 void camera_usage(std::FILE* out) {
   std::fprintf(
       out,
-      "usage: %s camera FOLDER --board COLSxROWS --square METRES [options]\n"
+      "usage: %s camera FOLDER|LOG --board COLSxROWS --square METRES [options]\n"
       "  FOLDER      images of a flat checkerboard (png, jpg, pgm, bmp), the board wholly\n"
       "              in view, seen from many angles and over the whole image\n"
+      "  LOG         or a log the firmware recorded (cleanslam --record LOG, with\n"
+      "              recorder.frame_every 1) while the board was shown so: its frames\n"
       "  --board COLSxROWS  its inner corners (squares - 1) across and down, e.g. 9x6\n"
       "  --square METRES    the side of one square\n"
       "  --min-views N      refuse fewer images with the board found (default 8)\n"
@@ -24,8 +27,8 @@ void camera_usage(std::FILE* out) {
       "  --max-rms PX       refuse a larger RMS reprojection error (default 1)\n"
       "  --size WxH         write the intrinsics for this image size (the same camera\n"
       "                     at the robot's resolution, e.g. 320x240)\n"
-      "%s",
-      kProgram, kOutputUsage);
+      "%s%s",
+      kProgram, kEveryUsage, kOutputUsage);
 }
 
 }  // namespace
@@ -33,7 +36,7 @@ void camera_usage(std::FILE* out) {
 int camera_command(int argc, char** argv) {
   CommandLine line = parse_command_line(
       argc, argv, 1,
-      {"--board", "--square", "--min-views", "--min-coverage", "--max-rms", "--size"},
+      {"--board", "--square", "--min-views", "--min-coverage", "--max-rms", "--size", "--every"},
       {"-h", "--help"});
   if (line.flags.count("-h") || line.flags.count("--help")) {
     camera_usage(stdout);
@@ -45,7 +48,7 @@ int camera_command(int argc, char** argv) {
   options.min_coverage = line.number("--min-coverage", options.min_coverage);
   options.max_rms_px = line.number("--max-rms", options.max_rms_px);
   int width = 0, height = 0;
-  if (line.error.empty() && line.positional.size() != 1) line.error = "expected one FOLDER";
+  if (line.error.empty() && line.positional.size() != 1) line.error = "expected one FOLDER or LOG";
   if (line.error.empty()) read_board(line, board);
   if (line.error.empty() && line.has("--size") &&
       !two_sizes(line.values.at("--size"), width, height)) {
@@ -57,17 +60,13 @@ int camera_command(int argc, char** argv) {
     return 2;
   }
   const std::string folder = line.positional.front();
-  const std::vector<std::string> images = image_files(folder);
-  if (images.empty()) {
-    std::fprintf(stderr, "%s camera: %s: no images (png, jpg, jpeg, pgm, bmp)\n", kProgram,
-                 folder.c_str());
-    return 1;
-  }
+  const std::optional<Views> images = read_views("camera", line, folder);
+  if (!images) return 1;
   options.progress = [](int done, int total, const std::string& file, bool found) {
     std::fprintf(stderr, "%s camera: [%d/%d] %s: %s\n", kProgram, done, total, file.c_str(),
                  found ? "board found" : "no board");
   };
-  auto c = calibrate_camera(images, board, options);
+  auto c = calibrate_camera(*images, board, options);
   if (!c.ok()) {
     tell("camera", c.error());
     return 1;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <string_view>
 #include <utility>
 
@@ -72,36 +71,6 @@ void read_board(CommandLine& line, Checkerboard& board) {
 
 void tell(const char* command, const std::string& message) {
   std::fprintf(stderr, "cleanslam-calibrate %s: %s\n", command, message.c_str());
-}
-
-std::optional<readers::Dataset> read_recording(const char* command, const std::string& folder) {
-  tell(command, "reading " + folder);
-  readers::Dataset d;
-  d.folder = folder;
-  auto gyro = readers::read_gyro_csv(folder + "/gyro.csv");
-  if (!gyro.ok()) {
-    tell(command, gyro.error());
-    return std::nullopt;
-  }
-  d.gyro = std::move(*gyro);
-  auto encoders = readers::read_encoders_csv(folder + "/encoders.csv");
-  if (!encoders.ok()) {
-    tell(command, encoders.error());
-    return std::nullopt;
-  }
-  d.encoders = std::move(*encoders);
-  // sensors.yaml is optional here: its wheel base, when there is one, only starts the wheels'
-  // calculation.
-  const std::string sensors = folder + "/sensors.yaml";
-  if (std::filesystem::exists(sensors)) {
-    auto calibration = readers::read_sensors_yaml(sensors);
-    if (!calibration.ok()) {
-      tell(command, calibration.error());
-      return std::nullopt;
-    }
-    d.calibration = *calibration;
-  }
-  return d;
 }
 
 int emit(const char* program, const CommandLine& line, const CalibrationResult& result,

@@ -1,14 +1,12 @@
 #pragma once
 
 #include <map>
-#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "cleanslam/calibrate/calibration_yaml.hpp"
 #include "cleanslam/calibrate/camera_calibration.hpp"
-#include "cleanslam/readers/dataset.hpp"
 
 // The command line shared by cleanslam-calibrate's subcommands: positional arguments, options
 // with a value, flags, and the output options every subcommand takes.
@@ -46,10 +44,6 @@ void read_board(CommandLine& line, Checkerboard& board);
 
 // Prints "cleanslam-calibrate COMMAND: message" on stderr.
 void tell(const char* command, const std::string& message);
-
-// Reads a recording's gyro.csv, encoders.csv and (when there is one) sensors.yaml with the dataset
-// readers, saying so; nullopt after telling why they cannot be read. Camera files are not needed.
-std::optional<readers::Dataset> read_recording(const char* command, const std::string& folder);
 
 // Prints or writes the result as the output options say; returns the exit status.
 int emit(const char* program, const CommandLine& line, const CalibrationResult& result,

@@ -6,14 +6,16 @@
 #include "cleanslam/calibrate/text.hpp"
 #include "command_line.hpp"
 #include "commands.hpp"
+#include "inputs.hpp"
 
 namespace cleanslam::calibrate {
 namespace {
 
 void gyro_usage(std::FILE* out) {
   std::fprintf(out,
-               "usage: %s gyro DATASET [options]\n"
-               "  DATASET     a recording (dataset folder) of the robot standing still\n"
+               "usage: %s gyro DATASET|LOG [options]\n"
+               "  DATASET|LOG a recording of the robot standing still (a dataset folder, or a\n"
+               "              log the firmware recorded: cleanslam --record LOG)\n"
                "  --min-duration S  refuse a shorter recording (default 100 s)\n"
                "  --curve FILE      also write the Allan deviation curve (CSV)\n"
                "%s",
@@ -31,7 +33,8 @@ int gyro_command(int argc, char** argv) {
   }
   GyroNoiseOptions options;
   options.min_duration_s = line.number("--min-duration", options.min_duration_s);
-  if (line.error.empty() && line.positional.size() != 1) line.error = "expected one DATASET";
+  if (line.error.empty() && line.positional.size() != 1)
+    line.error = "expected one DATASET (a folder) or LOG (a firmware log)";
   if (!line.error.empty()) {
     tell("gyro", line.error);
     gyro_usage(stderr);

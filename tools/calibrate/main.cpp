@@ -19,7 +19,9 @@ void usage(std::FILE* out) {
                "                                    images\n"
                "  mount FOLDER --board COLSxROWS --square METRES --at X,Y --yaw DEG\n"
                "        --intrinsics SENSORS.yaml   the camera's mount T_body_cam from a board\n"
-               "                                    on the floor\n");
+               "                                    on the floor\n"
+               "A DATASET or FOLDER may also be a log the firmware recorded (cleanslam --record\n"
+               "LOG): its gyro and encoder records, or its frames' images.\n");
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "cleanslam/readers/dataset.hpp"
 #include "command_line.hpp"
 #include "commands.hpp"
+#include "inputs.hpp"
 
 namespace cleanslam::calibrate {
 namespace {
@@ -16,10 +17,11 @@ namespace {
 void mount_usage(std::FILE* out) {
   std::fprintf(
       out,
-      "usage: %s mount FOLDER --board COLSxROWS --square METRES --at X,Y --yaw DEG\n"
+      "usage: %s mount FOLDER|LOG --board COLSxROWS --square METRES --at X,Y --yaw DEG\n"
       "       --intrinsics SENSORS.yaml [options]\n"
       "  FOLDER      images (png, jpg, pgm, bmp) from the robot's camera of a flat\n"
       "              checkerboard lying on the floor in front of it, robot and board still\n"
+      "  LOG         or a log the firmware recorded so (cleanslam --record LOG): its frames\n"
       "  --board COLSxROWS  its inner corners across and down, e.g. 9x6\n"
       "  --square METRES    the side of one square\n"
       "  --at X,Y    the board's centre (the middle of its inner corners) in the body\n"
@@ -28,15 +30,16 @@ void mount_usage(std::FILE* out) {
       "              straight ahead (0 or 180: the rows point ahead; 90: to the left)\n"
       "  --intrinsics FILE  a sensors.yaml with the camera's calibrated intrinsics\n"
       "  --max-rms PX       refuse a larger reprojection error (default 2)\n"
-      "%s",
-      kProgram, kOutputUsage);
+      "%s%s",
+      kProgram, kEveryUsage, kOutputUsage);
 }
 
 }  // namespace
 
 int mount_command(int argc, char** argv) {
   CommandLine line = parse_command_line(
-      argc, argv, 1, {"--board", "--square", "--at", "--yaw", "--intrinsics", "--max-rms"},
+      argc, argv, 1,
+      {"--board", "--square", "--at", "--yaw", "--intrinsics", "--max-rms", "--every"},
       {"-h", "--help"});
   if (line.flags.count("-h") || line.flags.count("--help")) {
     mount_usage(stdout);
@@ -46,7 +49,7 @@ int mount_command(int argc, char** argv) {
   BoardOnFloor spot;
   spot.yaw_rad = line.number("--yaw", 0.0) * std::numbers::pi / 180.0;
   const double max_rms = line.number("--max-rms", 2.0);
-  if (line.error.empty() && line.positional.size() != 1) line.error = "expected one FOLDER";
+  if (line.error.empty() && line.positional.size() != 1) line.error = "expected one FOLDER or LOG";
   if (line.error.empty()) read_board(line, board);
   char tail = 0;
   if (line.error.empty() &&
@@ -69,9 +72,9 @@ int mount_command(int argc, char** argv) {
     return 1;
   }
   const std::string folder = line.positional.front();
-  const std::vector<std::string> images = image_files(folder);
-  tell("mount", "the board in " + std::to_string(images.size()) + " images of " + folder);
-  auto m = calibrate_mount(images, board, spot, intrinsics->camera, max_rms);
+  const std::optional<Views> images = read_views("mount", line, folder);
+  if (!images) return 1;
+  auto m = calibrate_mount(*images, board, spot, intrinsics->camera, max_rms);
   if (!m.ok()) {
     tell("mount", m.error());
     return 1;

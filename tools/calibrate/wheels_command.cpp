@@ -7,14 +7,16 @@
 #include "cleanslam/calibrate/wheel_calibration.hpp"
 #include "command_line.hpp"
 #include "commands.hpp"
+#include "inputs.hpp"
 
 namespace cleanslam::calibrate {
 namespace {
 
 void wheels_usage(std::FILE* out) {
   std::fprintf(out,
-               "usage: %s wheels DATASET --straight METRES [options]\n"
-               "  DATASET     a recording (dataset folder) of the calibration drive: standing\n"
+               "usage: %s wheels DATASET|LOG --straight METRES [options]\n"
+               "  DATASET|LOG a recording of the calibration drive (a dataset folder, or a\n"
+               "              log the firmware recorded: cleanslam --record LOG): standing\n"
                "              still, then a straight forward drive, then turns in place\n"
                "  --straight METRES  the straight drive's measured length\n"
                "  --min-standstill S the standstill before the first motion (default 3 s)\n"
@@ -34,7 +36,8 @@ int wheels_command(int argc, char** argv) {
   WheelCalibrationOptions options;
   options.straight_length_m = line.number("--straight", 0.0);
   options.min_standstill_s = line.number("--min-standstill", options.min_standstill_s);
-  if (line.error.empty() && line.positional.size() != 1) line.error = "expected one DATASET";
+  if (line.error.empty() && line.positional.size() != 1)
+    line.error = "expected one DATASET (a folder) or LOG (a firmware log)";
   if (line.error.empty() && !line.has("--straight")) {
     line.error = "--straight METRES: the straight drive's measured length is needed";
   }

@@ -2,9 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <string>
 #include <vector>
 
+#include "cleanslam/calibrate/camera_calibration.hpp"
 #include "cleanslam/readers/dataset.hpp"
 #include "cleanslam/sim_hal/sim/scenario.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
@@ -35,6 +37,19 @@ inline readers::Dataset simulated(const sim_hal::sim::Scenario& sc, const std::s
 
 inline double relative_error(double measured, double truth) {
   return (measured - truth) / truth;
+}
+
+// The scenario's checkerboard, as the calibration takes it.
+inline calibrate::Checkerboard board_of(const sim_hal::sim::Scenario& sc) {
+  return {sc.checkerboard.cols, sc.checkerboard.rows, sc.checkerboard.square_m};
+}
+
+// fx, fy, cx, cy's relative errors against the scenario's camera.
+inline std::array<double, 4> intrinsics_errors(const calibrate::CameraCalibration& c,
+                                               const sim_hal::sim::Scenario& sc) {
+  const auto& t = sc.camera;
+  return {relative_error(c.fx, t.fx), relative_error(c.fy, t.fy), relative_error(c.cx, t.cx),
+          relative_error(c.cy, t.cy)};
 }
 
 }  // namespace cleanslam::calibrate_test

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -77,13 +78,11 @@ TEST(CameraCalibration, MatchesTheSimulatorsIntrinsicsOverSeeds) {
     TempDir dir;
     const auto sc = scenario("calibration-camera", seed);
     simulated(sc, dir.str());
-    auto c = calibrate::calibrate_camera(
-        calibrate::image_files(dir.sub("cam0/data")),
-        {sc.checkerboard.cols, sc.checkerboard.rows, sc.checkerboard.square_m}, {});
+    auto c =
+        calibrate::calibrate_camera(calibrate::image_files(dir.sub("cam0/data")), board_of(sc), {});
     ASSERT_TRUE(c.ok()) << c.error();
     const auto& t = sc.camera;
-    const double e[4] = {relative_error(c->fx, t.fx), relative_error(c->fy, t.fy),
-                         relative_error(c->cx, t.cx), relative_error(c->cy, t.cy)};
+    const std::array<double, 4> e = intrinsics_errors(*c, sc);
     std::printf(
         "seed %llu: fx %+.3f %%, fy %+.3f %%, cx %+.3f %%, cy %+.3f %%, k1 %.4f (%.4f), "
         "k2 %.4f (%.4f), RMS %.3f px, %d views\n",

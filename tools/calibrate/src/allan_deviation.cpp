@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include "cleanslam/calibrate/sample_files.hpp"
 #include "cleanslam/calibrate/text.hpp"
 
 namespace cleanslam::calibrate {
@@ -48,7 +49,7 @@ std::vector<AllanPoint> allan_deviation(const std::vector<double>& rates, double
 
 readers::Result<GyroNoise> gyro_noise(const readers::Dataset& d, const GyroNoiseOptions& o) {
   using GyroResult = readers::Result<GyroNoise>;
-  const std::string gyro_file = d.folder + "/gyro.csv";
+  const std::string gyro_file = samples_file(d, Samples::kGyro);
   const auto& g = d.gyro;
   if (g.size() < 3) return GyroResult::failure(gyro_file + ": fewer than three samples");
   for (std::size_t k = 1; k < d.encoders.size(); ++k) {
@@ -56,8 +57,8 @@ readers::Result<GyroNoise> gyro_noise(const readers::Dataset& d, const GyroNoise
     const auto& b = d.encoders[k];
     if (a.left_ticks != b.left_ticks || a.right_ticks != b.right_ticks) {
       return GyroResult::failure(
-          d.folder + "/encoders.csv: line " + std::to_string(k + 2) + ": the wheels move (t_ns " +
-          std::to_string(b.t_ns) +
+          samples_file(d, Samples::kEncoders) + ": " + sample_place(d, Samples::kEncoders, k) +
+          ": the wheels move (t_ns " + std::to_string(b.t_ns) +
           "); the gyro's noise needs a recording of the robot standing still");
     }
   }

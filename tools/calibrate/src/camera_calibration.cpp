@@ -4,10 +4,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/calib3d.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include "board_corners.hpp"
 #include "cleanslam/calibrate/text.hpp"
+#include "view_image.hpp"
 
 namespace cleanslam::calibrate {
 namespace {
@@ -63,7 +63,7 @@ std::vector<std::string> image_files(const std::string& folder) {
   return out;
 }
 
-CameraResult calibrate_camera(const std::vector<std::string>& images, const Checkerboard& board,
+CameraResult calibrate_camera(const Views& views, const Checkerboard& board,
                               const CameraCalibrationOptions& o) {
   if (board.cols < 2 || board.rows < 2 || !(board.square_m > 0.0)) {
     return CameraResult::failure(
@@ -73,8 +73,9 @@ CameraResult calibrate_camera(const std::vector<std::string>& images, const Chec
   CameraCalibration c;
   std::vector<std::vector<cv::Point2f>> corners;
   std::array<double, 4> box{1e300, 1e300, -1e300, -1e300};
-  for (const std::string& file : images) {
-    const cv::Mat gray = cv::imread(file, cv::IMREAD_GRAYSCALE);
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    const std::string& file = views.name(i);
+    const cv::Mat gray = view_image(views, i);
     if (gray.empty()) return CameraResult::failure(file + ": not an image OpenCV can read");
     if (c.images == 0) {
       c.width = gray.cols;
@@ -97,7 +98,7 @@ CameraResult calibrate_camera(const std::vector<std::string>& images, const Chec
     } else {
       c.rejected.push_back(file);
     }
-    if (o.progress) o.progress(c.images, static_cast<int>(images.size()), file, ok);
+    if (o.progress) o.progress(c.images, static_cast<int>(views.size()), file, ok);
   }
   c.views = static_cast<int>(corners.size());
   const std::string board_name =

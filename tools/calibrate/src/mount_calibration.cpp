@@ -3,11 +3,11 @@
 #include <cmath>
 #include <numbers>
 #include <opencv2/calib3d.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "board_corners.hpp"
 #include "cleanslam/calibrate/text.hpp"
+#include "view_image.hpp"
 
 namespace cleanslam::calibrate {
 namespace {
@@ -46,7 +46,7 @@ std::vector<std::array<double, 3>> board_corners_on_floor(const Checkerboard& b,
   return out;
 }
 
-MountResult calibrate_mount(const std::vector<std::string>& images, const Checkerboard& board,
+MountResult calibrate_mount(const Views& images, const Checkerboard& board,
                             const BoardOnFloor& spot, const hal::CameraCalibration& camera,
                             double max_rms_px) {
   if (images.empty()) return MountResult::failure("no images of the board on the floor");
@@ -56,8 +56,9 @@ MountResult calibrate_mount(const std::vector<std::string>& images, const Checke
                              static_cast<float>(p[2]));
   }
   std::vector<std::vector<cv::Point2f>> views;
-  for (const std::string& file : images) {
-    const cv::Mat gray = cv::imread(file, cv::IMREAD_GRAYSCALE);
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    const std::string& file = images.name(i);
+    const cv::Mat gray = view_image(images, i);
     if (gray.empty()) return MountResult::failure(file + ": not an image OpenCV can read");
     std::vector<cv::Point2f> found;
     if (!find_board_corners(gray, board, found)) {

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <numbers>
+#include "cleanslam/calibrate/sample_files.hpp"
 #include "cleanslam/calibrate/text.hpp"
 
 namespace cleanslam::calibrate {
@@ -61,8 +62,8 @@ double gyro_angle(const std::vector<hal::GyroSample>& g, hal::TimeNs t0, hal::Ti
 }  // namespace
 
 WheelResult calibrate_wheels(const readers::Dataset& d, const WheelCalibrationOptions& o) {
-  const std::string enc_file = d.folder + "/encoders.csv";
-  const std::string gyro_file = d.folder + "/gyro.csv";
+  const std::string enc_file = samples_file(d, Samples::kEncoders);
+  const std::string gyro_file = samples_file(d, Samples::kGyro);
   if (!(o.straight_length_m > 0.0)) {
     return WheelResult::failure("--straight: the straight drive's length must be positive, got " +
                                 fixed(o.straight_length_m, 3) + " m");

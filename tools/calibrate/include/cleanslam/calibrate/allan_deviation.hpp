@@ -37,8 +37,8 @@ struct GyroNoise {
   std::vector<AllanPoint> curve;
 };
 
-// Refused, naming the file, when the recording is shorter than the minimum, the wheels moved
-// (encoders.csv) or the gyro has a gap.
+// Refused, naming the file (samples_file), when the recording is shorter than the minimum, the
+// wheels moved (its encoder samples) or the gyro has a gap.
 readers::Result<GyroNoise> gyro_noise(const readers::Dataset& dataset,
                                       const GyroNoiseOptions& options);
 

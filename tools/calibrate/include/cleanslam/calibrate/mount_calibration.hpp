@@ -40,10 +40,16 @@ std::vector<std::array<double, 3>> board_corners_on_floor(const Checkerboard& bo
 // Refused, naming the image, when the board is not found in one; or when the reprojection error
 // exceeds `max_rms_px` (wrong intrinsics, a board that is not flat). A wrong spot, yaw or square
 // size cannot be seen: it moves the camera (the report's height and tilt are to be checked).
-readers::Result<MountCalibration> calibrate_mount(const std::vector<std::string>& images,
-                                                  const Checkerboard& board,
+readers::Result<MountCalibration> calibrate_mount(const Views& views, const Checkerboard& board,
                                                   const BoardOnFloor& spot,
                                                   const hal::CameraCalibration& camera,
                                                   double max_rms_px = 2.0);
+inline readers::Result<MountCalibration> calibrate_mount(const std::vector<std::string>& images,
+                                                         const Checkerboard& board,
+                                                         const BoardOnFloor& spot,
+                                                         const hal::CameraCalibration& camera,
+                                                         double max_rms_px = 2.0) {
+  return calibrate_mount(Views{images, {}}, board, spot, camera, max_rms_px);
+}
 
 }  // namespace cleanslam::calibrate

@@ -34,8 +34,9 @@ struct WheelCalibration {
   int mixed_intervals = 0;           // encoder intervals with one wheel still (neither kind)
 };
 
-// `dataset` must hold gyro.csv and encoders.csv of the drive; its sensors.yaml's wheel base (when
-// set) only starts the calculation.
+// `dataset` must hold the drive's gyro and encoder samples (a folder's gyro.csv and encoders.csv,
+// or a log's records: read_log_samples); its sensors.yaml's wheel base (when set) only starts the
+// calculation.
 // Refused, with the file and what is missing, when the standstill is too short, there is no
 // straight drive or too little turning.
 readers::Result<WheelCalibration> calibrate_wheels(const readers::Dataset& dataset,
