@@ -37,7 +37,7 @@ CameraOffsetEstimate::CameraOffsetEstimate(const hal::CameraCalibration& camera)
   }
 }
 
-void CameraOffsetEstimate::add_gyro(const hal::GyroSample& s) {
+void CameraOffsetEstimate::gyro(const hal::GyroSample& s) {
   Turn next;
   next.t_ns = s.t_ns;
   next.rate = {s.has_xy ? s.wx_rad_s : 0.0, s.has_xy ? s.wy_rad_s : 0.0, s.wz_rad_s};
@@ -107,7 +107,7 @@ bool CameraOffsetEstimate::turn_at(hal::TimeNs t_ns, int& k, std::array<double, 
   return true;
 }
 
-void CameraOffsetEstimate::add_update(const hal::log::UpdateRecord& r) {
+void CameraOffsetEstimate::update(const hal::log::UpdateRecord& r) {
   if (!valid_) {
     return;
   }

@@ -17,12 +17,13 @@ hal::TimeNs period_ns(double rate_hz) {
 }  // namespace
 
 Loop::Loop(const LoopOptions& options, Estimator& estimator)
-    : options_(options), estimator_(estimator), camera_offset_(options.camera) {
+    : options_(options), estimator_(estimator) {
   publish_period_ns_ = period_ns(options_.publish_rate_hz);
   frame_period_ns_ = period_ns(options_.frame_rate_hz);
   sources_.reserve(8);
   pose_sinks_.reserve(8);
   update_sinks_.reserve(8);
+  gyro_sinks_.reserve(8);
   frame_sinks_.reserve(4);
   frame_dr_sinks_.reserve(4);
 }
@@ -35,6 +36,10 @@ void Loop::add_pose_sink(hal::PoseSink* sink) {
 }
 void Loop::add_update_sink(UpdateSink* sink) {
   update_sinks_.push_back(sink);
+}
+
+void Loop::add_gyro_sink(GyroSink* sink) {
+  gyro_sinks_.push_back(sink);
 }
 void Loop::add_frame_sinks(hal::PoseSink* estimate, hal::PoseSink* dead_reckoning) {
   if (estimate != nullptr) {
@@ -195,7 +200,9 @@ void Loop::ingest_gyro(const hal::GyroSample& s, hal::TimeNs now) {
   }
   last_gyro_ns_ = s.t_ns;
   estimator_.add_gyro(s);
-  camera_offset_.add_gyro(s);
+  for (GyroSink* sink : gyro_sinks_) {
+    sink->gyro(s);
+  }
 }
 
 void Loop::ingest_encoder(const hal::EncoderSample& s, hal::TimeNs now) {
@@ -284,7 +291,7 @@ void Loop::run_dead_reckoning() {
     // Encoders silent: the estimate goes on from the gyro and the motion model, predicted at
     // each estimate published.
     const bool gyro_ok = (health_ & hal::kGyroSilent) == 0;
-    estimator_.predict(gyro_ok ? last_gyro_ns_ : now_ns_, gyro_ok);
+    estimator_.predict(gyro_ok ? last_gyro_ns_ : now_ns_);
     ++stats_.predictions;
     return;
   }
@@ -292,7 +299,7 @@ void Loop::run_dead_reckoning() {
     return;
   }
   odometry_pending_ = false;
-  estimator_.predict(last_encoder_ns_, (health_ & hal::kGyroSilent) == 0);
+  estimator_.predict(last_encoder_ns_);
   ++stats_.predictions;
 }
 
@@ -316,7 +323,6 @@ void Loop::run_frame_steps() {
     if (status < stats_.records_by_status.size()) {
       ++stats_.records_by_status[status];
     }
-    camera_offset_.add_update(records[i]);
     for (UpdateSink* sink : update_sinks_) {
       sink->update(records[i]);
     }

@@ -35,6 +35,8 @@ bool wire_outputs(const FirmwareConfig& config, bool on_robot, Loop& loop, RunOu
     loop.set_notifier(&out.notifier);
   }
   loop.set_health_observer(&out.health);
+  loop.add_update_sink(&out.camera_offset);
+  loop.add_gyro_sink(&out.camera_offset);
   return true;
 }
 

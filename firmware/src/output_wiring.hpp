@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "cleanslam/firmware/camera_offset_estimate.hpp"
 #include "cleanslam/firmware/config.hpp"
 #include "cleanslam/firmware/health_report.hpp"
 #include "cleanslam/firmware/loop.hpp"
@@ -10,15 +11,18 @@
 #include "cleanslam/firmware/systemd_notifier.hpp"
 
 // What a run writes and tells, on the loop: the TUM trajectory, the diagnostics CSV, the recorder,
-// systemd's notifications and the health report.
+// systemd's notifications, the health report and the camera time offset the data suggest.
 namespace cleanslam::firmware {
 
 struct RunOutputs {
+  explicit RunOutputs(const hal::CameraCalibration& camera) : camera_offset(camera) {}
+
   TumWriter tum;
   DiagnosticsCsv diagnostics;  // one that was not opened writes nothing
   Recorder recorder;
   SystemdNotifier notifier;
   HealthReport health{"cleanslam", stderr};
+  CameraOffsetEstimate camera_offset;
 };
 
 // Opens the outputs config.sinks and config.recorder name and puts them on the loop; `on_robot`:

@@ -38,7 +38,7 @@ int run_normal(const Args& args) {
   if (sources.log) {
     report_log_defects(*sources.log, &loop);
   }
-  RunOutputs outputs;
+  RunOutputs outputs(config.calibration.camera);
   if (!wire_outputs(config, sources.robot != nullptr, loop, outputs)) {
     return 2;
   }
@@ -65,7 +65,7 @@ int run_normal(const Args& args) {
       "cleanslam", &outputs.tum, &outputs.diagnostics, &outputs.recorder, stderr);
   const bool map_saved = map.finish(*estimator, end_ns);
   report_sources(sources, config, loop);
-  print_summary(loop, stderr);
+  print_summary(loop, outputs.camera_offset, stderr);
   if (sources.uncalibrated) {
     std::fprintf(stderr, "cleanslam: warning: %s\n",
                  uncalibrated_message(cfg.calibration_not_set, args.config_path).c_str());

@@ -31,7 +31,7 @@ void print_camera_offset(const CameraOffsetEstimate::Result& c, std::FILE* out) 
 }
 }  // namespace
 
-void print_summary(const Loop& loop, std::FILE* out) {
+void print_summary(const Loop& loop, const CameraOffsetEstimate& camera_offset, std::FILE* out) {
   const LoopStats& s = loop.stats();
   std::fprintf(
       out,
@@ -93,7 +93,7 @@ void print_summary(const Loop& loop, std::FILE* out) {
                  static_cast<unsigned long long>(w.windows_used),
                  static_cast<unsigned long long>(w.windows_gated));
   }
-  print_camera_offset(loop.camera_offset(), out);
+  print_camera_offset(camera_offset.result(), out);
   for (std::size_t i = 0; i < kRejectCount; ++i) {
     if (s.rejects.n[i] > 0) {
       std::fprintf(out, "cleanslam: rejected %s: %llu %s\n", to_string(static_cast<Reject>(i)),

@@ -247,6 +247,9 @@ int main(int argc, char** argv) {
   DeadReckoningAtPublish published(*estimator, dead_reckoning_published);
   loop.add_pose_sink(&published);
   loop.add_update_sink(&diagnostics);
+  firmware::CameraOffsetEstimate camera_offset(config.calibration.camera);
+  loop.add_update_sink(&camera_offset);
+  loop.add_gyro_sink(&camera_offset);
   const readers::DatasetSummary& ds = source->summary();
   const hal::TimeNs t0 = ds.first_ns;
   const hal::TimeNs t1 = ds.last_ns;
@@ -273,7 +276,7 @@ int main(int argc, char** argv) {
   if (!firmware::write_landmarks_csv(*estimator, out + "/landmarks.csv", error)) {
     return fail(error);
   }
-  firmware::print_summary(loop, stderr);
+  firmware::print_summary(loop, camera_offset, stderr);
   if (source->image_errors() > 0) {
     std::fprintf(stderr, "cleanslam-replay: warning: %d images failed to load: %s\n",
                  source->image_errors(), source->last_error().c_str());

@@ -98,7 +98,6 @@ class FakeEstimator final : public firmware::Estimator {
   bool have_encoder = false;
   hal::TimeNs last_gyro = -1;
   int predictions = 0;
-  int predictions_without_gyro = 0;
   int frames_begun = 0;
   int resets = 0;
   hal::CameraFrame frame;
@@ -125,10 +124,7 @@ class FakeEstimator final : public firmware::Estimator {
     last_left = s.left_ticks;
     have_encoder = true;
   }
-  void predict(hal::TimeNs /*t*/, bool gyro_ok) override {
-    ++predictions;
-    predictions_without_gyro += gyro_ok ? 0 : 1;
-  }
+  void predict(hal::TimeNs /*t*/) override { ++predictions; }
   void begin_frame(const hal::CameraFrame& f) override {
     frame = f;
     remaining = f.feature_count;

@@ -38,7 +38,7 @@ struct FeatureRun {
   std::vector<hal::log::UpdateRecord> frame(hal::TimeNs t,
                                             std::vector<hal::FeatureObservation> features) {
     drive_to(t);
-    estimator.predict(t, true);
+    estimator.predict(t);
     hal::CameraFrame f;
     f.t_ns = t;
     f.features = features.data();

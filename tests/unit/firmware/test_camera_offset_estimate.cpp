@@ -32,7 +32,7 @@ CameraOffsetEstimate::Result run(double true_offset_s, double configured_s, doub
     hal::GyroSample g;
     g.t_ns = hal::from_seconds(t);
     g.wz_rad_s = rate(t);
-    e.add_gyro(g);
+    e.gyro(g);
     const double capture_s = next_frame_s + true_offset_s;
     if (t < capture_s + 0.05 || next_frame_s > 55.0) {
       continue;
@@ -55,7 +55,7 @@ CameraOffsetEstimate::Result run(double true_offset_s, double configured_s, doub
       r.status = status;
       r.u_px = u;
       r.v_px = cam.cy;
-      e.add_update(r);
+      e.update(r);
     }
     next_frame_s += 0.5;
   }

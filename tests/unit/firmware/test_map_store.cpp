@@ -72,7 +72,7 @@ class SnapshotEstimator final : public firmware::Estimator {
   void reset(hal::TimeNs /*t_ns*/) override {}
   void add_gyro(const hal::GyroSample& /*s*/) override {}
   void add_encoder(const hal::EncoderSample& /*s*/) override {}
-  void predict(hal::TimeNs /*t_ns*/, bool /*gyro_ok*/) override {}
+  void predict(hal::TimeNs /*t_ns*/) override {}
   void begin_frame(const hal::CameraFrame& /*frame*/) override {}
   bool step_frame(int& /*budget*/) override { return true; }
   int update_records(const hal::log::UpdateRecord*& records) const override {

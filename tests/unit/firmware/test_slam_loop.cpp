@@ -90,7 +90,8 @@ std::string summary_text(const Loop& loop) {
   if (f == nullptr) {
     return {};
   }
-  firmware::print_summary(loop, f);
+  const firmware::CameraOffsetEstimate not_fed;
+  firmware::print_summary(loop, not_fed, f);
   std::rewind(f);
   std::string text;
   for (int ch = std::fgetc(f); ch != EOF; ch = std::fgetc(f)) {

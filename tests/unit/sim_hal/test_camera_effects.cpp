@@ -10,26 +10,19 @@
 #include "cleanslam/sim_hal/sim/scenario.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
 #include "cleanslam/sim_hal/sim/trajectory.hpp"
+#include "sim_test_files.hpp"
 
 using namespace cleanslam;
 namespace sim = cleanslam::sim_hal::sim;
+using cleanslam::sim_test::camera_at;
+using cleanslam::sim_test::scenario;
 
 namespace {
-
-sim::Scenario load(const std::string& name, const std::vector<std::string>& extra) {
-  auto sc = sim::load_scenario(name, extra);
-  EXPECT_TRUE(sc.ok()) << sc.error();
-  return *sc;
-}
 
 // A noise-free, blur-free camera in the default room, with `extra` on top.
 sim::Scenario clean_room(std::vector<std::string> extra = {}) {
   extra.insert(extra.begin(), {"camera.image_noise=0", "camera.blur=0", "camera.tilt_deg=0"});
-  return load("default-room", extra);
-}
-
-sim::Pose3 camera_at(const sim::Scenario& sc, double x, double y, double yaw) {
-  return sim::compose(sim::Pose3{sim::rot_z(yaw), {x, y, 0.0}}, sim::body_to_camera(sc.camera));
+  return scenario("default-room", extra);
 }
 
 readers::GrayImage render(const sim::Scenario& sc, const std::vector<sim::Pose3>& poses,
@@ -243,7 +236,7 @@ TEST(CameraEffects, AutoExposureStepsTheGainTowardsTheTarget) {
 TEST(CameraEffects, DistortionIsTheCalibrationsRadialTangentialModel) {
   // The simulator's projection is hal::CameraCalibration's k1 k2 p1 p2 model, as sensors.yaml
   // states it, at a few points across the image of the realistic camera.
-  const auto sc = load("realistic-camera", {});
+  const auto sc = scenario("realistic-camera", {});
   const auto& c = sc.camera;
   const double k1 = c.distortion[0], k2 = c.distortion[1], p1 = c.distortion[2],
                p2 = c.distortion[3];
@@ -264,7 +257,7 @@ TEST(CameraEffects, DistortionIsTheCalibrationsRadialTangentialModel) {
 }
 
 TEST(CameraEffects, RealisticCameraScenarioTurnsFastAtALowFrameRate) {
-  const auto sc = load("realistic-camera", {});
+  const auto sc = scenario("realistic-camera", {});
   EXPECT_GE(sc.path.turn_rate, 40.0 * std::numbers::pi / 180.0);
   EXPECT_GE(sc.camera.rate_hz, 1.0);
   EXPECT_LE(sc.camera.rate_hz, 2.0);
@@ -277,7 +270,7 @@ TEST(CameraEffects, RealisticCameraScenarioTurnsFastAtALowFrameRate) {
 }
 
 TEST(CameraEffects, RendersTheSameBytesForTheSameSeed) {
-  const auto sc = load("realistic-camera", {});
+  const auto sc = scenario("realistic-camera", {});
   const auto pose = camera_at(sc, 2.0, 2.5, 0.3);
   const std::vector<sim::Pose3> poses = {pose, camera_at(sc, 2.0, 2.5, 0.31)};
   const auto a = render(sc, poses, 7);
@@ -288,12 +281,12 @@ TEST(CameraEffects, RendersTheSameBytesForTheSameSeed) {
 }
 
 TEST(CameraEffects, PhotographsOrProceduralTexturesSayingWhy) {
-  const auto missing = load("realistic-camera", {"camera.photo_dir=/nonexistent/photos"});
+  const auto missing = scenario("realistic-camera", {"camera.photo_dir=/nonexistent/photos"});
   sim::Renderer fallback(missing);
   EXPECT_FALSE(fallback.photos_in_use());
   EXPECT_NE(fallback.textures_note().find("/nonexistent/photos/brick.png"), std::string::npos);
   EXPECT_NE(fallback.textures_note().find("python3-skimage"), std::string::npos);
-  const auto sc = load("realistic-camera", {});
+  const auto sc = scenario("realistic-camera", {});
   sim::Renderer photos(sc);
   if (!photos.photos_in_use()) GTEST_SKIP() << photos.textures_note();
   // The photographs change the image: same pose and noise, different textures.

@@ -9,13 +9,16 @@
 #include "cleanslam/readers/dataset.hpp"
 #include "cleanslam/sim_hal/dataset_writer.hpp"
 #include "sim_test_files.hpp"
+#include "text_checks.hpp"
 
 // The images of a dataset: what is refused besides a missing or malformed one.
 namespace {
 
 namespace fs = std::filesystem;
 using cleanslam::sim_hal::DatasetWriter;
+using cleanslam::sim_test::load_error;
 using cleanslam::sim_test::TempDir;
+using cleanslam::test::contains;
 
 // A 32x24 dataset with two PNG images, 250000000.png and 750000000.png.
 void make_images_dataset(const std::string& folder) {
@@ -38,15 +41,6 @@ void make_images_dataset(const std::string& folder) {
   ASSERT_TRUE(w.add_image(250'000'000, view).ok());
   ASSERT_TRUE(w.add_image(750'000'000, view).ok());
   ASSERT_TRUE(w.close().ok());
-}
-
-std::string load_error(const std::string& folder) {
-  auto d = cleanslam::readers::load_dataset(folder);
-  return d.ok() ? std::string() : d.error();
-}
-
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
 }
 
 TEST(DatasetImages, ALinkOutOfTheFolderIsRefused) {

@@ -28,14 +28,10 @@ namespace sim = cleanslam::sim_hal::sim;
 
 namespace {
 
+using sim_test::scenario;
 using sim_test::slurp;
 using sim_test::TempDir;
-
-sim::Scenario load(const std::string& name, const std::vector<std::string>& overrides = {}) {
-  auto sc = sim::load_scenario(name, overrides);
-  EXPECT_TRUE(sc.ok()) << sc.error();
-  return sc.ok() ? *sc : sim::Scenario{};
-}
+using sim_test::with;
 
 sim::World world_of(const sim::Scenario& sc) {
   sim::Random rng(sc.world_seed(), sim::stream::kWorld);
@@ -52,11 +48,6 @@ sim::Trajectory trajectory_of(const sim::Scenario& sc) {
 // there to the north wall) and no furniture.
 const std::vector<std::string> kWallRoom = {
     "world.furniture=[]", "world.walls=[{min: [2.9, 0.0, 0.0], max: [3.1, 3.5, 2.5]}]"};
-
-std::vector<std::string> with(std::vector<std::string> a, const std::vector<std::string>& b) {
-  a.insert(a.end(), b.begin(), b.end());
-  return a;
-}
 
 bool on_box_surface(const sim::Box& b, sim::Vec3 p) {
   constexpr double e = 1e-9;
@@ -129,9 +120,9 @@ Floor rooms(const sim::Scenario& sc, double clearance) {
 TEST(SimWaypoints, ThePathRunsStraightFromPointToPointAndTurnsInPlace) {
   const std::vector<std::array<double, 2>> w = {{1.0, 1.0}, {4.0, 1.2}, {4.5, 3.5},
                                                 {1.2, 3.8}, {1.2, 3.8}, {2.0, 2.0}};
-  const auto sc = load("default-room", {"world.furniture=[]", "path.type=waypoints",
-                                        "path.waypoints=[[1, 1], [4, 1.2], [4.5, 3.5], [1.2, "
-                                        "3.8], [1.2, 3.8], [2, 2]]"});
+  const auto sc = scenario("default-room", {"world.furniture=[]", "path.type=waypoints",
+                                            "path.waypoints=[[1, 1], [4, 1.2], [4.5, 3.5], [1.2, "
+                                            "3.8], [1.2, 3.8], [2, 2]]"});
   sim::Random rng(sc.seed, sim::stream::kPath);
   const auto plan = sim::plan_path(sc, rng);
   // The start: at the first point, facing the second.
@@ -230,9 +221,9 @@ TEST(SimWaypoints, APathThroughAWallOrOutOfTheWorldIsRefused) {
 TEST(SimHome, WorldSeedKeepsTheWorldAcrossRunSeeds) {
   TempDir dir;
   const std::vector<std::string> base = {"duration_s=20"};
-  const auto a = load("default-room", with(base, {"seed=1", "world.seed=7"}));
-  const auto b = load("default-room", with(base, {"seed=2", "world.seed=7"}));
-  const auto c = load("default-room", with(base, {"seed=2"}));
+  const auto a = scenario("default-room", with(base, {"seed=1", "world.seed=7"}));
+  const auto b = scenario("default-room", with(base, {"seed=2", "world.seed=7"}));
+  const auto c = scenario("default-room", with(base, {"seed=2"}));
   ASSERT_TRUE(sim::simulate(a, dir.sub("a")).ok());
   ASSERT_TRUE(sim::simulate(b, dir.sub("b")).ok());
   ASSERT_TRUE(sim::simulate(c, dir.sub("c")).ok());
@@ -253,8 +244,8 @@ TEST(SimHome, WorldSeedKeepsTheWorldAcrossRunSeeds) {
 }
 
 TEST(SimHome, MovedFurnitureTakesExactlyItsLandmarksAlong) {
-  const auto day1 = load("home");
-  const auto day2 = load("home-day2");
+  const auto day1 = scenario("home");
+  const auto day2 = scenario("home-day2");
   ASSERT_EQ(day1.world_seed(), day2.world_seed());
   const sim::World w1 = world_of(day1), w2 = world_of(day2);
   ASSERT_EQ(w1.landmarks().size(), w2.landmarks().size());
@@ -297,7 +288,7 @@ TEST(SimHome, MovedFurnitureTakesExactlyItsLandmarksAlong) {
   }
   // sim_landmarks.csv holds the moved positions.
   TempDir dir;
-  ASSERT_TRUE(sim::simulate(load("home-day2", {"duration_s=5"}), dir.sub("d2")).ok());
+  ASSERT_TRUE(sim::simulate(scenario("home-day2", {"duration_s=5"}), dir.sub("d2")).ok());
   std::map<std::int64_t, sim::Vec3> csv;
   ASSERT_TRUE(readers::read_csv(dir.sub("d2/sim_landmarks.csv"),
                                 readers::CsvSpec{{"id", "x_m", "y_m", "z_m"}, {}},
@@ -315,7 +306,7 @@ TEST(SimHome, MovedFurnitureTakesExactlyItsLandmarksAlong) {
 TEST(SimHome, IsAFlatOfRoomsJoinedByDoorsThatThePathsTourAndRevisit) {
   for (const char* name : {"home", "home-day2"}) {
     SCOPED_TRACE(name);
-    const auto sc = load(name);
+    const auto sc = scenario(name);
     const sim::World world = world_of(sc);
     EXPECT_GE(world.landmarks().size(), 300U);
     // Rooms: the floor more than 0.5 m from any wall falls apart at the 0.9 m doors; with the
@@ -360,16 +351,16 @@ TEST(SimHome, IsAFlatOfRoomsJoinedByDoorsThatThePathsTourAndRevisit) {
     EXPECT_NEAR(end.position.y, sc.path.waypoints.front()[1], 1e-9);
   }
   // Both days leave the same dock pose.
-  const auto a = trajectory_of(load("home")).at(0.0);
-  const auto b = trajectory_of(load("home-day2")).at(0.0);
+  const auto a = trajectory_of(scenario("home")).at(0.0);
+  const auto b = trajectory_of(scenario("home-day2")).at(0.0);
   EXPECT_EQ(a.position.x, b.position.x);
   EXPECT_EQ(a.position.y, b.position.y);
   EXPECT_NEAR(sim::wrap_angle(a.yaw - b.yaw), 0.0, 1e-12);
 }
 
 TEST(SimHome, AnInteriorWallHidesWhatIsBehindIt) {
-  const auto open = load("default-room", {"world.furniture=[]", "camera.min_facing_cos=0"});
-  const auto walled = load("default-room", with(kWallRoom, {"camera.min_facing_cos=0"}));
+  const auto open = scenario("default-room", {"world.furniture=[]", "camera.min_facing_cos=0"});
+  const auto walled = scenario("default-room", with(kWallRoom, {"camera.min_facing_cos=0"}));
   // A landmark on the east wall, straight ahead of a camera at x = 1 looking east, behind the
   // interior wall at x = 3.
   std::vector<sim::Landmark> lm(1);
@@ -387,12 +378,12 @@ TEST(SimHome, AnInteriorWallHidesWhatIsBehindIt) {
   // landmark east of it, though it observes those on the wall's west face.
   TempDir dir;
   const auto sc =
-      load("default-room",
-           {"world.furniture=[]", "world.walls=[{min: [2.9, 0.0, 0.0], max: [3.1, 5.0, 2.5]}]",
-            "path.type=waypoints",
-            "path.waypoints=[[0.5, 0.5], [2.5, 0.6], [2.5, 3.0], [0.5, 3.0], [0.6, "
-            "0.6], [2.5, 0.6]]",
-            "landmarks.on_interior_walls=40"});
+      scenario("default-room",
+               {"world.furniture=[]", "world.walls=[{min: [2.9, 0.0, 0.0], max: [3.1, 5.0, 2.5]}]",
+                "path.type=waypoints",
+                "path.waypoints=[[0.5, 0.5], [2.5, 0.6], [2.5, 3.0], [0.5, 3.0], [0.6, "
+                "0.6], [2.5, 0.6]]",
+                "landmarks.on_interior_walls=40"});
   ASSERT_TRUE(sim::simulate(sc, dir.sub("d")).ok());
   std::map<std::int64_t, double> x_of;
   ASSERT_TRUE(readers::read_csv(dir.sub("d/sim_landmarks.csv"),

@@ -10,10 +10,12 @@
 #include "cleanslam/sim_hal/sim/renderer.hpp"
 #include "cleanslam/sim_hal/sim/scenario.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
+#include "sim_test_files.hpp"
 
 namespace fs = std::filesystem;
 using namespace cleanslam;
 namespace sim = cleanslam::sim_hal::sim;
+using cleanslam::sim_test::camera_at;
 
 namespace {
 
@@ -24,10 +26,6 @@ sim::Scenario room(const std::vector<std::string>& extra = {}) {
 }
 
 // Camera of the scenario on a robot at (x, y) with heading yaw.
-sim::Pose3 camera_at(const sim::Scenario& sc, double x, double y, double yaw) {
-  return sim::compose(sim::Pose3{sim::rot_z(yaw), {x, y, 0.0}}, sim::body_to_camera(sc.camera));
-}
-
 }  // namespace
 
 TEST(Renderer, FloorWallBoundaryIsWhereTheGeometrySaysIt) {

@@ -24,8 +24,10 @@ namespace sim = cleanslam::sim_hal::sim;
 
 namespace {
 
+using sim_test::scenario;
 using sim_test::slurp;
 using sim_test::TempDir;
+using sim_test::with;
 
 // All noise sources off.
 const std::vector<std::string> kNoiseFree = {
@@ -33,17 +35,6 @@ const std::vector<std::string> kNoiseFree = {
     "gyro.scale_error=0",          "encoders.scale_error_left=0", "encoders.scale_error_right=0",
     "encoders.wheel_base_error=0", "encoders.distance_noise=0",   "encoders.slip_rate_hz=0",
     "camera.pixel_noise=0",        "camera.jitter_s=0",           "camera.outlier_probability=0"};
-
-std::vector<std::string> with(std::vector<std::string> a, const std::vector<std::string>& b) {
-  a.insert(a.end(), b.begin(), b.end());
-  return a;
-}
-
-sim::Scenario load(const std::string& name, const std::vector<std::string>& overrides) {
-  auto sc = sim::load_scenario(name, overrides);
-  EXPECT_TRUE(sc.ok()) << sc.error();
-  return sc.ok() ? *sc : sim::Scenario{};
-}
 
 // Rotation matrix of a unit quaternion (w, x, y, z), written out independently of sim_math.
 std::array<double, 9> quat_to_matrix(const std::array<double, 4>& q) {
@@ -118,7 +109,7 @@ TEST(SimScenario, BuiltInsLoadAndDescribeTheRequiredWorlds) {
     ASSERT_TRUE(sc.ok()) << n << ": " << sc.error();
     EXPECT_EQ(sc->name, n);
   }
-  const auto room = load("default-room", {});
+  const auto room = scenario("default-room", {});
   EXPECT_DOUBLE_EQ(room.world.size.x, 6.0);
   EXPECT_DOUBLE_EQ(room.world.size.y, 5.0);
   EXPECT_DOUBLE_EQ(room.world.size.z, 2.5);
@@ -133,7 +124,7 @@ TEST(SimScenario, BuiltInsLoadAndDescribeTheRequiredWorlds) {
     ASSERT_GE(s.position.y, room.path.margin - 1e-9);
     ASSERT_LE(s.position.y, room.world.size.y - room.path.margin + 1e-9);
   }
-  const auto sparse = load("sparse-poor-odometry", {});
+  const auto sparse = scenario("sparse-poor-odometry", {});
   EXPECT_EQ(sparse.landmarks.posts, 15);
   EXPECT_DOUBLE_EQ(sparse.duration_s, 900.0);
 }
@@ -208,7 +199,7 @@ TEST(SimScenario, FileWithBase) {
 // A boustrophedon over 1000 m x 1000 m takes months: refused before anything is written.
 TEST(Simulator, APathOfMoreThanADayIsRefusedBeforeWriting) {
   TempDir dir;
-  const auto sc = load("default-room", {"world.size=[1000, 1000, 3]"});
+  const auto sc = scenario("default-room", {"world.size=[1000, 1000, 3]"});
   const auto r = sim::simulate(sc, dir.sub("out"));
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().find("more than a day"), std::string::npos) << r.error();
@@ -217,7 +208,7 @@ TEST(Simulator, APathOfMoreThanADayIsRefusedBeforeWriting) {
 
 TEST(Simulator, DeterministicForASeed) {
   TempDir dir;
-  const auto sc = load("person-walking", {"duration_s=40"});
+  const auto sc = scenario("person-walking", {"duration_s=40"});
   auto sc2 = sc;
   sc2.seed = sc.seed + 1;
   ASSERT_TRUE(sim::simulate(sc, dir.sub("a")).ok());
@@ -233,7 +224,7 @@ TEST(Simulator, DeterministicForASeed) {
 
 TEST(Simulator, WritesADatasetTheReaderAccepts) {
   TempDir dir;
-  const auto sc = load("default-room", {"duration_s=60"});
+  const auto sc = scenario("default-room", {"duration_s=60"});
   auto sum = sim::simulate(sc, dir.str());
   ASSERT_TRUE(sum.ok()) << sum.error();
   auto d = readers::load_dataset(dir.str());
@@ -257,7 +248,7 @@ TEST(Simulator, WritesADatasetTheReaderAccepts) {
 // pose and the T_body_cam that sensors.yaml gives, computed here independently.
 TEST(Simulator, FeaturesAreProjectionsThroughTheWrittenCalibration) {
   TempDir dir;
-  const auto sc = load("default-room", with(kNoiseFree, {"duration_s=80"}));
+  const auto sc = scenario("default-room", with(kNoiseFree, {"duration_s=80"}));
   ASSERT_TRUE(sim::simulate(sc, dir.str()).ok());
   auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
@@ -318,7 +309,7 @@ TEST(Simulator, FeaturesAreProjectionsThroughTheWrittenCalibration) {
 // With the noise off, dead reckoning from gyro and encoders follows the ground truth.
 TEST(Simulator, NoiseFreeOdometryReproducesGroundTruth) {
   TempDir dir;
-  const auto sc = load("default-room", with(kNoiseFree, {"duration_s=120"}));
+  const auto sc = scenario("default-room", with(kNoiseFree, {"duration_s=120"}));
   ASSERT_TRUE(sim::simulate(sc, dir.str()).ok());
   auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
@@ -357,9 +348,9 @@ TEST(Simulator, NoiseFreeOdometryReproducesGroundTruth) {
 TEST(Simulator, GyroNoiseAndBiasFollowTheScenario) {
   TempDir dir;
   // Standing still for 200 s: the gyro shows bias + white noise only.
-  const auto sc = load("default-room",
-                       {"duration_s=200", "path.stops=[{at_s: 0, duration_s: 300}]",
-                        "gyro.noise_density=0.002", "gyro.initial_bias=0.003", "gyro.bias_walk=0"});
+  const auto sc = scenario(
+      "default-room", {"duration_s=200", "path.stops=[{at_s: 0, duration_s: 300}]",
+                       "gyro.noise_density=0.002", "gyro.initial_bias=0.003", "gyro.bias_walk=0"});
   ASSERT_TRUE(sim::simulate(sc, dir.str()).ok());
   auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
@@ -377,7 +368,7 @@ TEST(Simulator, GyroNoiseAndBiasFollowTheScenario) {
 
 TEST(Simulator, TickCountersWrapAt32Bits) {
   TempDir dir;
-  const auto sc = load("default-room", {"duration_s=30", "robot.initial_ticks=2147480000"});
+  const auto sc = scenario("default-room", {"duration_s=30", "robot.initial_ticks=2147480000"});
   ASSERT_TRUE(sim::simulate(sc, dir.str()).ok());
   auto e = readers::read_encoders_csv(dir.sub("encoders.csv"));
   ASSERT_TRUE(e.ok()) << e.error();
@@ -397,7 +388,7 @@ TEST(Simulator, TickCountersWrapAt32Bits) {
 
 TEST(Simulator, KidnappedRobotIsLiftedAndMoved) {
   TempDir dir;
-  const auto sc = load("kidnapped", {"duration_s=200"});
+  const auto sc = scenario("kidnapped", {"duration_s=200"});
   ASSERT_TRUE(sim::simulate(sc, dir.str()).ok());
   auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
@@ -446,7 +437,7 @@ TEST(Simulator, KidnappedRobotIsLiftedAndMoved) {
 // quarter turn.
 TEST(Simulator, KidnappedAcrossIsSetDownOnTheFarSide) {
   TempDir dir;
-  const auto sc = load("kidnapped-across", {"duration_s=160"});
+  const auto sc = scenario("kidnapped-across", {"duration_s=160"});
   ASSERT_TRUE(sim::simulate(sc, dir.str()).ok());
   auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
@@ -471,7 +462,7 @@ TEST(Simulator, KidnappedAcrossIsSetDownOnTheFarSide) {
 
 TEST(Simulator, SparsePoorOdometryIsSparse) {
   TempDir dir;
-  const auto sc = load("sparse-poor-odometry", {});
+  const auto sc = scenario("sparse-poor-odometry", {});
   auto sum = sim::simulate(sc, dir.str());
   ASSERT_TRUE(sum.ok()) << sum.error();
   EXPECT_NEAR(sum->duration_s, 900.0, 1e-6);

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 
+#include "cleanslam/firmware/loop.hpp"
 #include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/hal/log_format.hpp"
 #include "cleanslam/hal/samples.hpp"
@@ -15,8 +16,8 @@ namespace cleanslam::firmware {
 // candidate offset d the turn is integrated from the gyro between the frames' stamps plus d; the
 // candidate that explains the points' motion best (least squares, each pair's error capped
 // against mismatched points) is the offset the data suggest. Independent of the filter's
-// estimate; fixed memory.
-class CameraOffsetEstimate {
+// estimate; fixed memory. Fed by the loop as one of its update and gyro sinks.
+class CameraOffsetEstimate final : public UpdateSink, public GyroSink {
  public:
   struct Result {
     bool measurable = false;  // enough turning between frames to tell the candidates apart
@@ -36,8 +37,8 @@ class CameraOffsetEstimate {
   CameraOffsetEstimate() = default;
   explicit CameraOffsetEstimate(const hal::CameraCalibration& camera);
 
-  void add_gyro(const hal::GyroSample& s);
-  void add_update(const hal::log::UpdateRecord& r);
+  void gyro(const hal::GyroSample& s) override;
+  void update(const hal::log::UpdateRecord& r) override;
   [[nodiscard]] Result result() const;
 
  private:

@@ -64,9 +64,9 @@ class Estimator {
   [[nodiscard]] virtual bool pose_lost() const { return false; }
   virtual void add_gyro(const hal::GyroSample& s) = 0;
   virtual void add_encoder(const hal::EncoderSample& s) = 0;
-  // Dead reckoning up to t_ns folded into the filter (prediction). gyro_ok false: the gyro is
-  // silent, heading comes from the encoders with inflated noise.
-  virtual void predict(hal::TimeNs t_ns, bool gyro_ok) = 0;
+  // Dead reckoning up to t_ns folded into the filter (prediction). The estimator judges a silent
+  // gyro by the loop's own timeout (loop.gyro_timeout_s) and then heads by the encoders.
+  virtual void predict(hal::TimeNs t_ns) = 0;
   // A frame to process; it stays valid until step_frame() reports it finished.
   virtual void begin_frame(const hal::CameraFrame& frame) = 0;
   // Runs pipeline steps while `budget` (work units) lasts; true when the frame is finished.

@@ -4,10 +4,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "cleanslam/firmware/camera_offset_estimate.hpp"
 #include "cleanslam/firmware/estimator.hpp"
 #include "cleanslam/firmware/health.hpp"
 #include "cleanslam/firmware/recorder.hpp"
+#include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/hal/capacities.hpp"
 #include "cleanslam/hal/interfaces.hpp"
 #include "cleanslam/hal/log_format.hpp"
@@ -26,7 +26,7 @@ struct LoopOptions {
   hal::TimeNs max_lead_ns = 10 * hal::kNsPerMillisecond;
   hal::TimeNs max_span_ns = hal::kDefaultMaxSpanNs;
   int frame_work_budget = 64;  // pipeline work units per loop iteration
-  // The calibrated camera: a frame of another size is refused; the time offset the data suggest.
+  // The calibrated camera: a frame of another size is refused.
   hal::CameraCalibration camera;
 };
 
@@ -36,6 +36,13 @@ class UpdateSink {
   virtual ~UpdateSink() = default;
   virtual void update(const hal::log::UpdateRecord& record) = 0;
   virtual void flush() {}
+};
+
+// The gyro samples the loop accepted (finite, in order, on time), as the estimator gets them.
+class GyroSink {
+ public:
+  virtual ~GyroSink() = default;
+  virtual void gyro(const hal::GyroSample& sample) = 0;
 };
 
 // Watchdog and readiness notifications (systemd).
@@ -74,6 +81,7 @@ class Loop {
   void add_source(hal::SensorSource* source);
   void add_pose_sink(hal::PoseSink* sink);
   void add_update_sink(UpdateSink* sink);
+  void add_gyro_sink(GyroSink* sink);
   // Told the estimate and the dead-reckoning pose at each finished frame's time.
   void add_frame_sinks(hal::PoseSink* estimate, hal::PoseSink* dead_reckoning);
   void set_recorder(Recorder* recorder) { recorder_ = recorder; }
@@ -97,9 +105,6 @@ class Loop {
   [[nodiscard]] const std::vector<hal::SensorSource*>& sources() const { return sources_; }
   [[nodiscard]] const LoopStats& stats() const { return stats_; }
   [[nodiscard]] const Estimator& estimator() const { return estimator_; }
-  [[nodiscard]] CameraOffsetEstimate::Result camera_offset() const {
-    return camera_offset_.result();
-  }
   [[nodiscard]] std::uint32_t health() const { return health_; }
   // Counts rejected inputs; the first of each reason is told to the health observer unless the
   // caller has told them already (`told`).
@@ -128,6 +133,7 @@ class Loop {
   std::vector<hal::SensorSource*> sources_;
   std::vector<hal::PoseSink*> pose_sinks_;
   std::vector<UpdateSink*> update_sinks_;
+  std::vector<GyroSink*> gyro_sinks_;
   std::vector<hal::PoseSink*> frame_sinks_;
   std::vector<hal::PoseSink*> frame_dr_sinks_;
   Recorder* recorder_ = nullptr;
@@ -155,7 +161,6 @@ class Loop {
   FrameSlot* active_ = nullptr;   // being processed
   FrameSlot* pending_ = nullptr;  // newest waiting frame
   LoopStats stats_;
-  CameraOffsetEstimate camera_offset_;
 };
 
 }  // namespace cleanslam::firmware

@@ -24,8 +24,7 @@ class SlamEstimator final : public Estimator {
   [[nodiscard]] bool pose_lost() const override { return system_->pose_lost(); }
   void add_gyro(const hal::GyroSample& s) override { system_->add_gyro(s); }
   void add_encoder(const hal::EncoderSample& s) override { system_->add_encoder(s); }
-  // gyro_ok: the dead reckoner sees it too.
-  void predict(hal::TimeNs t_ns, bool /*gyro_ok*/) override { system_->predict(t_ns); }
+  void predict(hal::TimeNs t_ns) override { system_->predict(t_ns); }
   void begin_frame(const hal::CameraFrame& frame) override { system_->begin_frame(frame); }
   bool step_frame(int& budget) override { return system_->step_frame(budget); }
   int update_records(const hal::log::UpdateRecord*& records) const override {
