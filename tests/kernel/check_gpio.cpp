@@ -11,6 +11,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -190,6 +191,7 @@ bool check_data_ready() {
   int after = 0;
   bool in_order = true;
   bool stamps_in_window = true;
+  std::deque<TimeNs> unread_sends;
   for (int seq = 0; now_ns() < asked + 8'000'000'000 && after < 5; ++seq) {
     const auto f = drivers::can_map::encode(
         drivers::can_map::GyroMessage{10'000, 2500, static_cast<std::uint8_t>(seq), 0});
@@ -197,7 +199,7 @@ bool check_data_ready() {
     c.can_id = f.id;
     c.len = f.length;
     std::memcpy(c.data, f.data.data(), 8);
-    const TimeNs sent = now_ns();
+    unread_sends.push_back(now_ns());
     (void)!::write(sender, &c, sizeof c);
     const timespec pause{0, 20'000'000};
     ::nanosleep(&pause, nullptr);
@@ -206,6 +208,11 @@ bool check_data_ready() {
     while (board.read(e)) {
       if (e.kind != SensorEvent::Kind::kGyro) {
         continue;
+      }
+      // Frames arrive in the order sent; on a loaded host one may come after the next is sent.
+      const TimeNs sent = unread_sends.empty() ? asked : unread_sends.front();
+      if (!unread_sends.empty()) {
+        unread_sends.pop_front();
       }
       in_order = in_order && e.gyro.t_ns > last_t;
       last_t = e.gyro.t_ns;

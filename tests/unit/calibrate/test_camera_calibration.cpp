@@ -7,6 +7,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
+#include <vector>
 
 #include "calibrate_test_data.hpp"
 #include "cleanslam/calibrate/camera_calibration.hpp"
@@ -119,9 +121,11 @@ TEST(CameraCalibration, RefusesCornersThatDoNotCoverTheImageNamingTheEdges) {
 TEST(CameraCalibration, RefusesTheWrongBoard) {
   const std::string folder = CLEANSLAM_CHECKERBOARD_DIR;
   if (!std::filesystem::is_directory(folder)) GTEST_SKIP() << folder << " is absent";
-  auto c = calibrate::calibrate_camera(calibrate::image_files(folder), {10, 7, 0.025}, {});
+  std::vector<std::string> views = calibrate::image_files(folder);
+  views.resize(3);  // the corner search fails slowly: three views show the refusal
+  auto c = calibrate::calibrate_camera(views, {10, 7, 0.025}, {});
   ASSERT_FALSE(c.ok());
-  EXPECT_NE(c.error().find("10 x 7 board's inner corners were found in 0 of 13"), std::string::npos)
+  EXPECT_NE(c.error().find("10 x 7 board's inner corners were found in 0 of 3"), std::string::npos)
       << c.error();
 }
 
