@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "cleanslam/firmware/sinks.hpp"
 #include "cleanslam/firmware/summary_words.hpp"
 
 namespace cleanslam::firmware {
