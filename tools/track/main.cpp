@@ -5,7 +5,7 @@
 // motion model in place of the EKF, and writes the tracks as features.csv
 // (t_ns,track_id,u_px,v_px: the inliers of every frame that passes JCBB, and each new landmark
 // where it was taken). --overlay DIR writes one PNG per frame with the tracks, search regions and
-// inlier/outlier marks.
+// inlier/outlier marks, captioned with the frame's time and a legend.
 #include <unistd.h>
 
 #include <algorithm>
@@ -38,8 +38,10 @@ void usage(std::FILE* to) {
       "                    created; refused when it exists (unless --force) or lies in\n"
       "                    DATASET\n"
       "  --overlay DIR     write DIR/NNNNNN.png per frame: search regions (yellow),\n"
-      "                    inliers (green), outliers and misses (red), new (cyan); DIR\n"
-      "                    is created, refused when not empty (unless --force)\n"
+      "                    inliers (green), outliers and misses (red), new (cyan),\n"
+      "                    with the frame's number, time and counts and a legend\n"
+      "                    below; a small image is drawn twice its size; DIR is\n"
+      "                    created, refused when not empty (unless --force)\n"
       "  --force           replace FILE, and the NNNNNN.png of an earlier run in DIR\n"
       "  --min-ncc X       NCC a match must clear (default 0.8)\n"
       "  --sigma-motion PX image motion between frames, 1 sigma (default 12)\n"
@@ -238,7 +240,7 @@ int main(int argc, char** argv) {
     }
     if (!overlay_dir.empty()) {
       tr::Overlay overlay(image.view());
-      overlay.draw(pipeline);
+      overlay.draw(pipeline, {frames - 1, static_cast<double>(row.t_ns) * 1e-9});
       char name[32];
       std::snprintf(name, sizeof(name), "/%06ld.png", frames - 1);
       std::string error;
