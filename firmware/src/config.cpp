@@ -6,11 +6,13 @@
 #include <cstdio>
 #include <sstream>
 
+#include "cleanslam/firmware/firmware_parameters.hpp"
 #include "cleanslam/firmware/robot_calibration.hpp"
 #include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/hal/calibration_limits.hpp"
 #include "cleanslam/hal/capacities.hpp"
 #include "cleanslam/readers/dataset.hpp"
+#include "cleanslam/readers/parameter_yaml.hpp"
 #include "cleanslam/readers/yaml_document.hpp"
 #include "parameter_sections.hpp"
 
@@ -25,37 +27,15 @@ class Section {
  public:
   Section(yaml::MappingReader reader, yaml::Diagnostics& d) : m_(std::move(reader)), d_(d) {}
 
-  // `why`, when given, follows the range in the message.
-  double number(const char* key, double fallback, double lo, double hi, bool lo_open = false,
-                const char* why = nullptr) {
-    const double v = m_.optional_double(key, fallback);
-    if (m_.has(key) && (v < lo || v > hi || (lo_open && v <= lo))) {
-      std::ostringstream s;
-      s << where(key) << ": " << v << " is out of range " << (lo_open ? "(" : "[") << lo << ", "
-        << hi << "]" << (why != nullptr ? ": " : "") << (why != nullptr ? why : "");
-      d_.errors.push_back(s.str());
-      return fallback;
-    }
-    return v;
-  }
-  double number(const char* key, double fallback, hal::calibration_limits::Limit limit) {
-    return number(key, fallback, limit.lo, limit.hi, limit.lo_open);
+  void number(const char* key, double& v, hal::calibration_limits::Limit limit) {
+    readers::read_parameter_field(m_, key, hal::parameter_field(v), limit.lo, limit.hi,
+                                  limit.lo_open, "", d_);
   }
   // A number checked by the caller.
   double value(const char* key, double fallback) { return m_.optional_double(key, fallback); }
-  int integer(const char* key, int fallback, std::int64_t lo, std::int64_t hi) {
-    const std::int64_t v = m_.optional_int(key, fallback);
-    if (m_.has(key) && (v < lo || v > hi)) {
-      d_.errors.push_back(where(key) + ": " + std::to_string(v) + " is out of range [" +
-                          std::to_string(lo) + ", " + std::to_string(hi) + "]");
-      return fallback;
-    }
-    return static_cast<int>(v);
+  void integer(const char* key, int& v, int lo, int hi) {
+    readers::read_parameter_field(m_, key, hal::parameter_field(v), lo, hi, false, "", d_);
   }
-  std::string text(const char* key, const std::string& fallback) {
-    return m_.optional_string(key, fallback);
-  }
-  bool flag(const char* key, bool fallback) { return m_.optional_bool(key, fallback); }
   template <std::size_t N>
   void numbers(const char* key, std::array<double, N>& out) {
     const auto v = m_.optional_doubles(key, std::vector<double>(out.begin(), out.end()), N);
@@ -64,7 +44,6 @@ class Section {
     }
   }
   Section sub(const char* key) { return Section(m_.optional_mapping(key), d_); }
-  [[nodiscard]] bool has(const char* key) const { return m_.has(key); }
   // The dotted path of this section with a trailing dot ("calibration.camera.").
   [[nodiscard]] std::string prefix() const { return m_.path(""); }
   void error(const char* key, const std::string& message) {
@@ -86,18 +65,11 @@ class Section {
 
 namespace lim = hal::calibration_limits;
 
-// The shortest map.save_interval_s: saving on every loop iteration would starve the sensors.
-constexpr double kMinSaveIntervalS = 0.1;
-
-hal::TimeNs seconds(double s) {
-  return static_cast<hal::TimeNs>(std::llround(s * 1e9));
-}
-
 void read_calibration(Section c, hal::Calibration& cal) {
   {
     Section cam = c.sub("camera");
-    cal.camera.width = cam.integer("width", cal.camera.width, 1, hal::kImageWidth);
-    cal.camera.height = cam.integer("height", cal.camera.height, 1, hal::kImageHeight);
+    cam.integer("width", cal.camera.width, 1, hal::kImageWidth);
+    cam.integer("height", cal.camera.height, 1, hal::kImageHeight);
     cal.camera.fx = cam.value("fx", cal.camera.fx);
     cal.camera.fy = cam.value("fy", cal.camera.fy);
     cal.camera.cx = cam.value("cx", cal.camera.cx);
@@ -116,9 +88,8 @@ void read_calibration(Section c, hal::Calibration& cal) {
     if (const char* bad = hal::camera_mount_error(cal.camera.T_body_cam)) {
       cam.error("T_body_cam", bad);
     }
-    cal.camera.pixel_noise = cam.number("pixel_noise", cal.camera.pixel_noise, lim::kPixelNoisePx);
-    cal.camera.time_offset_s =
-        cam.number("time_offset_s", cal.camera.time_offset_s, lim::kTimeOffsetS);
+    cam.number("pixel_noise", cal.camera.pixel_noise, lim::kPixelNoisePx);
+    cam.number("time_offset_s", cal.camera.time_offset_s, lim::kTimeOffsetS);
     if (std::abs(cal.camera.time_offset_s) > lim::kPlausibleTimeOffsetS) {
       cam.warning("time_offset_s", lim::implausible_time_offset(cal.camera.time_offset_s));
     }
@@ -127,195 +98,60 @@ void read_calibration(Section c, hal::Calibration& cal) {
   {
     Section w = c.sub("wheels");
     auto& wh = cal.wheels;
-    wh.ticks_per_meter_left =
-        w.number("ticks_per_meter_left", wh.ticks_per_meter_left, lim::kTicksPerMeter);
-    wh.ticks_per_meter_right =
-        w.number("ticks_per_meter_right", wh.ticks_per_meter_right, lim::kTicksPerMeter);
-    wh.wheel_base = w.number("wheel_base", wh.wheel_base, lim::kWheelBaseM);
-    wh.distance_noise = w.number("distance_noise", wh.distance_noise, lim::kFraction);
-    wh.scale_error = w.number("scale_error", wh.scale_error, lim::kFraction);
+    w.number("ticks_per_meter_left", wh.ticks_per_meter_left, lim::kTicksPerMeter);
+    w.number("ticks_per_meter_right", wh.ticks_per_meter_right, lim::kTicksPerMeter);
+    w.number("wheel_base", wh.wheel_base, lim::kWheelBaseM);
+    w.number("distance_noise", wh.distance_noise, lim::kFraction);
+    w.number("scale_error", wh.scale_error, lim::kFraction);
     w.done();
   }
   {
     Section g = c.sub("gyro");
-    cal.gyro.noise_density = g.number("noise_density", cal.gyro.noise_density, lim::kNoiseDensity);
-    cal.gyro.bias_instability =
-        g.number("bias_instability", cal.gyro.bias_instability, lim::kGyroBias);
-    cal.gyro.scale_error = g.number("scale_error", cal.gyro.scale_error, lim::kFraction);
-    cal.gyro.bias_walk = g.number("bias_walk", cal.gyro.bias_walk, lim::kGyroBias);
+    g.number("noise_density", cal.gyro.noise_density, lim::kNoiseDensity);
+    g.number("bias_instability", cal.gyro.bias_instability, lim::kGyroBias);
+    g.number("scale_error", cal.gyro.scale_error, lim::kFraction);
+    g.number("bias_walk", cal.gyro.bias_walk, lim::kGyroBias);
     g.done();
   }
   c.done();
 }
 
-template <typename Config>
-void read_leaves(Section& s, std::span<const slam_core::Parameter<Config>> table,
-                 const std::string& prefix, Config& config) {
-  for (const auto& p : table) {
-    const std::string name(parameter_sections::leaf_name(p.key, prefix));
-    if (name.empty()) {
-      continue;
-    }
-    const double current = slam_core::get_parameter(p, config);
-    double v = current;
-    switch (slam_core::parameter_type(p)) {
-      case slam_core::ParameterType::kBool:
-        v = s.flag(name.c_str(), current != 0.0) ? 1.0 : 0.0;
-        break;
-      case slam_core::ParameterType::kInt:
-        v = s.integer(name.c_str(), static_cast<int>(current), static_cast<std::int64_t>(p.lo),
-                      static_cast<std::int64_t>(p.hi));
-        break;
-      case slam_core::ParameterType::kFloat:
-      case slam_core::ParameterType::kDouble:
-        v = s.number(name.c_str(), current, p.lo, p.hi, p.lo_open);
-        break;
-    }
-    slam_core::set_parameter(p, config, v);
+// The keys of both tables below `prefix`, nested mappings included.
+void read_section(yaml::MappingReader& m, const std::string& prefix, FirmwareConfig& cfg,
+                  yaml::Diagnostics& d) {
+  readers::read_parameters(m, slam_core::slam_parameters(), prefix, cfg.slam, d);
+  readers::read_parameters(m, firmware_parameters(), prefix, cfg, d);
+  for (const std::string& child : parameter_sections::children(prefix)) {
+    yaml::MappingReader sub = m.optional_mapping(child);
+    read_section(sub, prefix + child + ".", cfg, d);
+    sub.report_unknown_keys();
   }
 }
 
-// The keys of the parameter tables below `prefix`, nested mappings included.
-void read_parameters(Section& s, const std::string& prefix, FirmwareConfig& cfg) {
-  read_leaves(s, slam_core::slam_parameters(), prefix, cfg.slam);
+void write_section(std::string& out, const std::string& prefix, const std::string& indent,
+                   const FirmwareConfig& c) {
+  readers::write_parameters(out, slam_core::slam_parameters(), prefix, indent, c.slam, false);
+  readers::write_parameters(out, firmware_parameters(), prefix, indent, c, false);
   for (const std::string& child : parameter_sections::children(prefix)) {
-    Section sub = s.sub(child.c_str());
-    read_parameters(sub, prefix + child + ".", cfg);
-    sub.done();
-  }
-}
-
-void write_parameters(std::ostream& s, const std::string& prefix, const std::string& indent,
-                      const FirmwareConfig& c) {
-  const auto leaves = [&](const auto& table, const auto& config) {
-    for (const auto& p : table) {
-      const std::string_view name = parameter_sections::leaf_name(p.key, prefix);
-      if (!name.empty()) {
-        s << indent << name << ": "
-          << parameter_sections::value_text(slam_core::parameter_type(p),
-                                            slam_core::get_parameter(p, config))
-          << "\n";
-      }
-    }
-  };
-  leaves(slam_core::slam_parameters(), c.slam);
-  for (const std::string& child : parameter_sections::children(prefix)) {
-    s << indent << child << ":\n";
-    write_parameters(s, prefix + child + ".", indent + "  ", c);
+    out.append(indent).append(child).append(":\n");
+    write_section(out, prefix + child + ".", indent + "  ", c);
   }
 }
 
 void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg) {
-  Section top(yaml::MappingReader(root, "", d), d);
-  cfg.calibration_from_dataset = top.flag("calibration_from_dataset", cfg.calibration_from_dataset);
-  read_calibration(top.sub("calibration"), cfg.calibration);
-  for (const std::string& section : parameter_sections::children("")) {
-    Section sec = top.sub(section.c_str());
-    read_parameters(sec, section + ".", cfg);
-    sec.done();
+  yaml::MappingReader top(root, "", d);
+  read_calibration(Section(top.optional_mapping("calibration"), d), cfg.calibration);
+  read_section(top, "", cfg, d);
+  top.report_unknown_keys();
+  const SourceSettings& source = cfg.source;
+  if (source.kind != SourceSettings::Kind::kDrivers && source.path.empty()) {
+    const char* kind = source.kind == SourceSettings::Kind::kDataset ? "dataset" : "log";
+    const yaml::Node* section = top.node("source");
+    const yaml::Node* n = section != nullptr ? section->find("path") : nullptr;
+    n = n != nullptr ? n : section;
+    d.errors.push_back((n != nullptr ? n->location.str() + ": " : std::string()) +
+                       "source.path: a " + kind + " source needs a path");
   }
-  {
-    Section l = top.sub("loop");
-    auto& x = cfg.loop;
-    x.frame_rate_hz = l.number("frame_rate_hz", x.frame_rate_hz, 0.1, 30.0);
-    x.publish_rate_hz = l.number("publish_rate_hz", x.publish_rate_hz, 1.0, 200.0);
-    x.gyro_timeout_ns = seconds(l.number("gyro_timeout_s", 0.1, 0.001, 10.0));
-    x.encoder_timeout_ns = seconds(l.number("encoder_timeout_s", 0.25, 0.001, 10.0));
-    x.camera_timeout_ns = seconds(l.number("camera_timeout_s", 3.0, 0.01, 60.0));
-    x.max_time_skew_ns = seconds(l.number("max_time_skew_s", 1.0, 0.001, 60.0));
-    x.max_lead_ns = seconds(l.number("max_lead_s", 0.01, 0.0, 60.0));
-    x.max_span_ns = seconds(l.number("max_span_s", 86400.0, 1.0, 3.0e7));
-    x.frame_work_budget = l.integer("frame_work_budget", x.frame_work_budget, 1, 1 << 20);
-    l.done();
-  }
-  {
-    Section s = top.sub("source");
-    auto& x = cfg.source;
-    const std::string kind = s.text("kind", "drivers");
-    if (kind == "drivers") {
-      x.kind = SourceSettings::Kind::kDrivers;
-    } else if (kind == "dataset") {
-      x.kind = SourceSettings::Kind::kDataset;
-    } else if (kind == "log") {
-      x.kind = SourceSettings::Kind::kLog;
-    } else {
-      s.error("kind", "\"" + kind + "\" is not one of drivers, dataset, log");
-    }
-    x.path = s.text("path", x.path);
-    if (x.kind != SourceSettings::Kind::kDrivers && x.path.empty()) {
-      s.error("path", "a " + kind + " source needs a path");
-    }
-    x.realtime = s.flag("realtime", x.realtime);
-    x.camera_device = s.text("camera_device", x.camera_device);
-    x.can_interface = s.text("can_interface", x.can_interface);
-    x.gpio_chip = s.text("gpio_chip", x.gpio_chip);
-    x.lift_line = s.integer("lift_line", x.lift_line, -1, 1023);
-    s.done();
-  }
-  {
-    Section s = top.sub("sinks");
-    auto& x = cfg.sinks;
-    x.tum_path = s.text("tum", x.tum_path);
-    x.diagnostics_path = s.text("diagnostics", x.diagnostics_path);
-    x.can = s.flag("can", x.can);
-    x.can_interface = s.text("can_interface", x.can_interface);
-    x.rotation.max_file_bytes = static_cast<std::size_t>(
-        s.number("max_file_mb", static_cast<double>(x.rotation.max_file_bytes >> 20), 1.0, 1e5) *
-        1048576.0);
-    x.rotation.max_files = s.integer("max_files", x.rotation.max_files, 1, 1000);
-    s.done();
-  }
-  {
-    Section r = top.sub("robot");
-    auto& x = cfg.robot;
-    slam_core::MapConfig& m = cfg.slam.map;
-    using SetDown = slam_core::MapConfig::SetDown;
-    const std::string set_down =
-        r.text("on_set_down", m.on_set_down == SetDown::kRelocalize ? "relocalize" : "new_map");
-    if (set_down == "relocalize") {
-      m.on_set_down = SetDown::kRelocalize;
-    } else if (set_down == "new_map") {
-      m.on_set_down = SetDown::kNewMap;
-    } else {
-      r.error("on_set_down", "\"" + set_down + "\" is not one of relocalize, new_map");
-    }
-    m.relocalize_std_m = r.number("relocalize_std_m", m.relocalize_std_m, 0.0, 100.0);
-    m.relocalize_std_yaw_deg =
-        r.number("relocalize_std_yaw_deg", m.relocalize_std_yaw_deg, 0.0, 180.0);
-    x.status_led_line = r.integer("status_led_line", x.status_led_line, -1, 1023);
-    x.gyro_ready_line = r.integer("gyro_ready_line", x.gyro_ready_line, -1, 1023);
-    x.gyro_ready_max_latency_s =
-        r.number("gyro_ready_max_latency_s", x.gyro_ready_max_latency_s, 0.0001, 1.0);
-    r.done();
-  }
-  {
-    Section r = top.sub("recorder");
-    auto& x = cfg.recorder;
-    x.path = r.text("path", x.path);
-    x.max_file_bytes = static_cast<std::size_t>(
-        r.number("max_file_mb", static_cast<double>(x.max_file_bytes >> 20), 1.0, 1e5) * 1048576.0);
-    x.max_files = r.integer("max_files", x.max_files, 1, 1000);
-    x.frame_every = r.integer("frame_every", x.frame_every, 0, 1000000);
-    x.buffer_bytes = static_cast<std::size_t>(r.integer(
-                         "buffer_kb", static_cast<int>(x.buffer_bytes >> 10), 128, 1 << 20))
-                     << 10;
-    x.write_chunk_bytes =
-        static_cast<std::size_t>(
-            r.integer("write_chunk_kb", static_cast<int>(x.write_chunk_bytes >> 10), 1, 1 << 20))
-        << 10;
-    r.done();
-  }
-  {
-    Section m = top.sub("map");
-    auto& x = cfg.map;
-    x.path = m.text("path", x.path);
-    x.save_interval_s =
-        m.number("save_interval_s", x.save_interval_s, kMinSaveIntervalS, 86400.0, false,
-                 "a save holds the loop while it writes and syncs the map, so at most ten a "
-                 "second");
-    m.done();
-  }
-  top.done();
 }
 
 // "a.b.c=value": sets the node at a.b.c (creating mappings on the way) to the parsed value.
@@ -407,52 +243,6 @@ ConfigResult finish(yaml::Node root, const std::vector<std::string>& overrides) 
   return result;
 }
 
-std::string fmt(double v) {
-  return readers::format_double(v);
-}
-
-// A YAML double-quoted scalar that reads back as s: quotes, backslashes and every character YAML
-// does not print (controls, C1 controls, line and paragraph separators, the byte order mark) are
-// escaped; a raw line break would be folded into a space when read back.
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  char buf[16];
-  for (std::size_t i = 0; i < s.size();) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    std::size_t n = 1;
-    std::uint32_t cp = c;
-    if (c >= 0xC0 && c < 0xE0 && i + 1 < s.size()) {
-      n = 2;
-      cp = ((c & 0x1FU) << 6) | (static_cast<unsigned char>(s[i + 1]) & 0x3FU);
-    } else if (c >= 0xE0 && c < 0xF0 && i + 2 < s.size()) {
-      n = 3;
-      cp = ((c & 0x0FU) << 12) | ((static_cast<unsigned char>(s[i + 1]) & 0x3FU) << 6) |
-           (static_cast<unsigned char>(s[i + 2]) & 0x3FU);
-    } else if (c >= 0xF0 && i + 3 < s.size()) {
-      n = 4;  // beyond the characters escaped below
-      cp = 0x10000;
-    }
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += static_cast<char>(c);
-    } else if (c == '\n') {
-      out += "\\n";
-    } else if (c == '\t') {
-      out += "\\t";
-    } else if (cp < 0x20 || cp == 0x7F || (cp >= 0x80 && cp < 0xA0)) {
-      std::snprintf(buf, sizeof buf, "\\x%02X", static_cast<unsigned>(cp));
-      out += buf;
-    } else if (cp == 0x2028 || cp == 0x2029 || cp == 0xFEFF || cp == 0xFFFE || cp == 0xFFFF) {
-      std::snprintf(buf, sizeof buf, "\\u%04X", static_cast<unsigned>(cp));
-      out += buf;
-    } else {
-      out.append(s, i, n);
-    }
-    i += n;
-  }
-  return out + "\"";
-}
-
 }  // namespace
 
 ConfigResult parse_config(const std::string& text, const std::string& file_name,
@@ -480,72 +270,18 @@ ConfigResult load_config(const std::string& path, const std::vector<std::string>
 }
 
 std::string config_text(const FirmwareConfig& c) {
-  std::ostringstream s;
-  const auto secs = [](hal::TimeNs ns) { return fmt(static_cast<double>(ns) * 1e-9); };
-  s << "calibration_from_dataset: " << (c.calibration_from_dataset ? "true" : "false") << "\n";
-  s << "calibration:\n";
+  std::string out;
+  readers::write_parameters(out, firmware_parameters(), "", "", c, false);
+  out += "calibration:\n";
   std::istringstream cal(readers::sensors_yaml_text(c.calibration));
   for (std::string line; std::getline(cal, line);) {
-    s << "  " << line << "\n";
+    out.append("  ").append(line).append("\n");
   }
   for (const std::string& section : parameter_sections::children("")) {
-    s << section << ":\n";
-    write_parameters(s, section + ".", "  ", c);
+    out.append(section).append(":\n");
+    write_section(out, section + ".", "  ", c);
   }
-  const auto& l = c.loop;
-  s << "loop:\n"
-    << "  frame_rate_hz: " << fmt(l.frame_rate_hz) << "\n"
-    << "  publish_rate_hz: " << fmt(l.publish_rate_hz) << "\n"
-    << "  gyro_timeout_s: " << secs(l.gyro_timeout_ns) << "\n"
-    << "  encoder_timeout_s: " << secs(l.encoder_timeout_ns) << "\n"
-    << "  camera_timeout_s: " << secs(l.camera_timeout_ns) << "\n"
-    << "  max_time_skew_s: " << secs(l.max_time_skew_ns) << "\n"
-    << "  max_lead_s: " << secs(l.max_lead_ns) << "\n"
-    << "  max_span_s: " << secs(l.max_span_ns) << "\n"
-    << "  frame_work_budget: " << l.frame_work_budget << "\n";
-  const auto& so = c.source;
-  const char* kind = so.kind == SourceSettings::Kind::kDrivers   ? "drivers"
-                     : so.kind == SourceSettings::Kind::kDataset ? "dataset"
-                                                                 : "log";
-  s << "source:\n"
-    << "  kind: " << kind << "\n"
-    << "  path: " << quoted(so.path) << "\n"
-    << "  realtime: " << (so.realtime ? "true" : "false") << "\n"
-    << "  camera_device: " << quoted(so.camera_device) << "\n"
-    << "  can_interface: " << quoted(so.can_interface) << "\n"
-    << "  gpio_chip: " << quoted(so.gpio_chip) << "\n"
-    << "  lift_line: " << so.lift_line << "\n";
-  const auto& k = c.sinks;
-  s << "sinks:\n"
-    << "  tum: " << quoted(k.tum_path) << "\n"
-    << "  diagnostics: " << quoted(k.diagnostics_path) << "\n"
-    << "  can: " << (k.can ? "true" : "false") << "\n"
-    << "  can_interface: " << quoted(k.can_interface) << "\n"
-    << "  max_file_mb: " << fmt(static_cast<double>(k.rotation.max_file_bytes) / 1048576.0) << "\n"
-    << "  max_files: " << k.rotation.max_files << "\n";
-  const auto& r = c.recorder;
-  s << "recorder:\n"
-    << "  path: " << quoted(r.path) << "\n"
-    << "  max_file_mb: " << fmt(static_cast<double>(r.max_file_bytes) / 1048576.0) << "\n"
-    << "  max_files: " << r.max_files << "\n"
-    << "  frame_every: " << r.frame_every << "\n"
-    << "  buffer_kb: " << (r.buffer_bytes >> 10) << "\n"
-    << "  write_chunk_kb: " << (r.write_chunk_bytes >> 10) << "\n";
-  const auto& b = c.robot;
-  const slam_core::MapConfig& m = c.slam.map;
-  s << "robot:\n"
-    << "  on_set_down: "
-    << (m.on_set_down == slam_core::MapConfig::SetDown::kRelocalize ? "relocalize" : "new_map")
-    << "\n"
-    << "  relocalize_std_m: " << fmt(m.relocalize_std_m) << "\n"
-    << "  relocalize_std_yaw_deg: " << fmt(m.relocalize_std_yaw_deg) << "\n"
-    << "  status_led_line: " << b.status_led_line << "\n"
-    << "  gyro_ready_line: " << b.gyro_ready_line << "\n"
-    << "  gyro_ready_max_latency_s: " << fmt(b.gyro_ready_max_latency_s) << "\n";
-  s << "map:\n"
-    << "  path: " << quoted(c.map.path) << "\n"
-    << "  save_interval_s: " << fmt(c.map.save_interval_s) << "\n";
-  return s.str();
+  return out;
 }
 
 }  // namespace cleanslam::firmware

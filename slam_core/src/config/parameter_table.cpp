@@ -8,7 +8,8 @@ namespace cleanslam::slam_core {
 
 namespace {
 
-using P = Parameter<SlamConfig>;
+using hal::parameter_field;
+using P = hal::Parameter<SlamConfig>;
 
 // Key, member, default, range (lo, hi, lo open), unit, meaning.
 constexpr std::array kSlamParameters{
@@ -349,11 +350,11 @@ constexpr std::array kSlamParameters{
 
 }  // namespace
 
-std::span<const Parameter<SlamConfig>> slam_parameters() {
+std::span<const P> slam_parameters() {
   return kSlamParameters;
 }
 
-const Parameter<SlamConfig>* find_slam_parameter(std::string_view key) {
+const P* find_slam_parameter(std::string_view key) {
   for (const P& p : kSlamParameters) {
     if (p.key == key) {
       return &p;

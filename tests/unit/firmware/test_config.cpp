@@ -1,11 +1,14 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cleanslam/firmware/config.hpp"
+#include "cleanslam/firmware/firmware_parameters.hpp"
+#include "cleanslam/readers/dataset.hpp"
 #include "text_checks.hpp"
 
 namespace cleanslam {
@@ -13,6 +16,7 @@ namespace {
 
 using firmware::config_text;
 using firmware::ConfigResult;
+using firmware::firmware_parameters;
 using firmware::FirmwareConfig;
 using firmware::load_config;
 using firmware::parse_config;
@@ -281,11 +285,11 @@ TEST(ParameterConfig, TheCommittedSampleIsTheOneTheTablesGenerate) {
 }
 
 // A value as a configuration text writes it.
-std::string value_text(slam_core::ParameterType type, double v) {
+std::string value_text(hal::ParameterType type, double v) {
   switch (type) {
-    case slam_core::ParameterType::kBool:
+    case hal::ParameterType::kBool:
       return v != 0.0 ? "true" : "false";
-    case slam_core::ParameterType::kInt:
+    case hal::ParameterType::kInt:
       return std::to_string(static_cast<long long>(v));
     default:
       return std::to_string(v);
@@ -296,17 +300,16 @@ std::string value_text(slam_core::ParameterType type, double v) {
 // included), range checked, and written back by config_text.
 TEST(ParameterConfig, EveryTableKeyIsSetByItsConfigurationKey) {
   for (const auto& p : slam_core::slam_parameters()) {
-    const double v = slam_core::parameter_type(p) == slam_core::ParameterType::kBool
-                         ? 1.0 - p.default_value
-                     : p.hi != p.default_value ? p.hi
-                                               : p.lo + 1.0;
-    ASSERT_TRUE(slam_core::parameter_in_range(p, v)) << p.key;
-    const std::string set = std::string(p.key) + "=" + value_text(slam_core::parameter_type(p), v);
+    const double v = hal::parameter_type(p) == hal::ParameterType::kBool ? 1.0 - p.default_value
+                     : p.hi != p.default_value                           ? p.hi
+                                                                         : p.lo + 1.0;
+    ASSERT_TRUE(hal::parameter_in_range(p, v)) << p.key;
+    const std::string set = std::string(p.key) + "=" + value_text(hal::parameter_type(p), v);
     const ConfigResult r = parse_config("", "t.yaml", {set, "loop.frame_rate_hz=2"});
     ASSERT_TRUE(r.ok()) << set << "\n" << joined(r.errors);
     EXPECT_TRUE(r.warnings.empty()) << joined(r.warnings);
-    EXPECT_EQ(slam_core::get_parameter(p, r.config.slam),
-              slam_core::parameter_type(p) == slam_core::ParameterType::kFloat
+    EXPECT_EQ(hal::get_parameter(p, r.config.slam),
+              hal::parameter_type(p) == hal::ParameterType::kFloat
                   ? static_cast<double>(static_cast<float>(v))
                   : v)
         << p.key;
@@ -314,7 +317,7 @@ TEST(ParameterConfig, EveryTableKeyIsSetByItsConfigurationKey) {
     ASSERT_TRUE(back.ok()) << joined(back.errors);
     EXPECT_EQ(config_text(back.config), config_text(r.config)) << p.key;
     // Out of range: an error naming the file, line and key; the default stays.
-    if (slam_core::parameter_type(p) != slam_core::ParameterType::kBool) {
+    if (hal::parameter_type(p) != hal::ParameterType::kBool) {
       const std::string section(p.key.substr(0, p.key.rfind('.')));
       const std::string name(p.key.substr(p.key.rfind('.') + 1));
       std::string text;
@@ -330,15 +333,75 @@ TEST(ParameterConfig, EveryTableKeyIsSetByItsConfigurationKey) {
         }
         start = dot + 1;
       }
-      text +=
-          indent + name + ": " + value_text(slam_core::parameter_type(p), p.hi * 2.0 + 1.0) + "\n";
+      text += indent + name + ": " + value_text(hal::parameter_type(p), p.hi * 2.0 + 1.0) + "\n";
       const ConfigResult bad = parse_config(text, "bad.yaml", {});
       ASSERT_EQ(bad.errors.size(), 1U) << text << joined(bad.errors);
       const std::string where = "bad.yaml:" + std::to_string(line + 1) + ": " + std::string(p.key);
       EXPECT_NE(bad.errors[0].find(where), std::string::npos) << bad.errors[0];
       EXPECT_NE(bad.errors[0].find("out of range"), std::string::npos) << bad.errors[0];
-      EXPECT_EQ(slam_core::get_parameter(p, bad.config.slam), slam_core::stored_default(p));
+      EXPECT_EQ(hal::get_parameter(p, bad.config.slam), hal::stored_default(p));
     }
+  }
+}
+
+// The firmware's own keys: each listed default is the struct's, and each key sets the member it
+// names and no other.
+TEST(ParameterConfig, EachFirmwareKeySetsTheMemberItNamesAndNoOther) {
+  const FirmwareConfig defaults{};
+  const auto table = firmware_parameters();
+  const auto value_of = [](const hal::Parameter<FirmwareConfig>& q, const FirmwareConfig& c) {
+    return hal::parameter_type(q) == hal::ParameterType::kText
+               ? hal::get_text_parameter(q, c)
+               : std::to_string(hal::get_parameter(q, c));
+  };
+  for (const auto& p : table) {
+    std::vector<std::string> sets;
+    std::string expected;
+    switch (hal::parameter_type(p)) {
+      case hal::ParameterType::kText:
+        sets.push_back(std::string(p.key) + "=some/where");
+        expected = "some/where";
+        break;
+      case hal::ParameterType::kBool:
+        EXPECT_EQ(hal::get_parameter(p, defaults), p.default_value) << p.key;
+        sets.push_back(std::string(p.key) + "=" + (p.default_value != 0.0 ? "false" : "true"));
+        expected = std::to_string(1.0 - p.default_value);
+        break;
+      case hal::ParameterType::kChoice: {
+        EXPECT_EQ(hal::get_parameter(p, defaults), p.default_value) << p.key;
+        FirmwareConfig probe{};
+        const auto names = p.field(probe).choices;
+        const std::size_t other = p.default_value == 0.0 ? 1U : 0U;
+        sets.push_back(std::string(p.key) + "=" + std::string(names[other]));
+        expected = std::to_string(static_cast<double>(other));
+        break;
+      }
+      default: {
+        EXPECT_EQ(hal::get_parameter(p, defaults), hal::stored_default(p)) << p.key;
+        const double v = p.hi != p.default_value ? p.hi : p.lo;
+        ASSERT_TRUE(hal::parameter_in_range(p, v)) << p.key;
+        sets.push_back(
+            std::string(p.key) + "=" +
+            (v == std::trunc(v) ? std::to_string(std::llround(v)) : readers::format_double(v)));
+        expected = std::to_string(v);
+        break;
+      }
+    }
+    if (p.key == "source.kind") {
+      sets.emplace_back("source.path=some/where");
+    }
+    const ConfigResult r = parse_config("", "t.yaml", sets);
+    ASSERT_TRUE(r.ok()) << sets[0] << "\n" << joined(r.errors);
+    EXPECT_EQ(value_of(p, r.config), expected) << p.key;
+    for (const auto& q : table) {
+      if (&q != &p && !(p.key == "source.kind" && q.key == "source.path")) {
+        EXPECT_EQ(value_of(q, r.config), value_of(q, defaults))
+            << "setting " << p.key << " changed " << q.key;
+      }
+    }
+    const ConfigResult back = parse_config(config_text(r.config), "back.yaml", {});
+    ASSERT_TRUE(back.ok()) << joined(back.errors);
+    EXPECT_EQ(config_text(back.config), config_text(r.config)) << p.key;
   }
 }
 

@@ -61,8 +61,8 @@ TEST(RobotConfig, SetDownPolicyAndLinesAreReadAndValidated) {
       "bad.yaml", {"robot.gyro_ready_line=2000"});
   ASSERT_EQ(bad.errors.size(), 4U) << joined(bad.errors);
   const std::string all = joined(bad.errors);
-  EXPECT_NE(all.find("bad.yaml:2: robot.on_set_down: \"teleport\" is not one of relocalize, "
-                     "new_map"),
+  EXPECT_NE(all.find("bad.yaml:2: robot.on_set_down: \"teleport\" is not one of new_map, "
+                     "relocalize"),
             std::string::npos)
       << all;
   EXPECT_NE(all.find("bad.yaml:3: robot.status_led_line"), std::string::npos) << all;

@@ -14,7 +14,7 @@ namespace cs = slam_core;
 TEST(ParameterTable, TheStructsDefaultsAreTheListedDefaults) {
   const cs::SlamConfig defaults{};
   for (const auto& p : cs::slam_parameters()) {
-    EXPECT_EQ(cs::get_parameter(p, defaults), cs::stored_default(p)) << p.key;
+    EXPECT_EQ(hal::get_parameter(p, defaults), hal::stored_default(p)) << p.key;
   }
 }
 
@@ -23,11 +23,11 @@ TEST(ParameterTable, EveryKeyIsListedOnceWithItsDefaultInRangeAndADoc) {
   for (const auto& p : cs::slam_parameters()) {
     EXPECT_TRUE(keys.insert(std::string(p.key)).second) << p.key << " listed twice";
     EXPECT_TRUE(p.key.starts_with("filter.") || p.key.starts_with("frontend.")) << p.key;
-    EXPECT_TRUE(cs::parameter_in_range(p, p.default_value)) << p.key;
+    EXPECT_TRUE(hal::parameter_in_range(p, p.default_value)) << p.key;
     EXPECT_FALSE(p.doc.empty()) << p.key;
     EXPECT_EQ(cs::find_slam_parameter(p.key), &p);
     // A float's bounds round inward: a value read within them stays within them once stored.
-    if (cs::parameter_type(p) == cs::ParameterType::kFloat) {
+    if (hal::parameter_type(p) == hal::ParameterType::kFloat) {
       EXPECT_GE(static_cast<double>(static_cast<float>(p.lo)), p.lo) << p.key;
       EXPECT_LE(static_cast<double>(static_cast<float>(p.hi)), p.hi) << p.key;
     }
@@ -40,17 +40,17 @@ TEST(ParameterTable, EveryKeySetsItsOwnMember) {
   const auto table = cs::slam_parameters();
   for (const auto& p : table) {
     cs::SlamConfig c{};
-    const double v = cs::parameter_type(p) == cs::ParameterType::kBool ? 1.0 - p.default_value
-                     : cs::parameter_in_range(p, p.hi) && p.hi != p.default_value ? p.hi
-                                                                                  : p.lo + 1.0;
-    ASSERT_TRUE(cs::parameter_in_range(p, v)) << p.key << " " << v;
-    cs::set_parameter(p, c, v);
+    const double v = hal::parameter_type(p) == hal::ParameterType::kBool ? 1.0 - p.default_value
+                     : hal::parameter_in_range(p, p.hi) && p.hi != p.default_value ? p.hi
+                                                                                   : p.lo + 1.0;
+    ASSERT_TRUE(hal::parameter_in_range(p, v)) << p.key << " " << v;
+    hal::set_parameter(p, c, v);
     for (const auto& q : table) {
-      const double expected = &q == &p ? (cs::parameter_type(p) == cs::ParameterType::kFloat
+      const double expected = &q == &p ? (hal::parameter_type(p) == hal::ParameterType::kFloat
                                               ? static_cast<double>(static_cast<float>(v))
                                               : v)
-                                       : cs::stored_default(q);
-      EXPECT_EQ(cs::get_parameter(q, c), expected) << "setting " << p.key << " changed " << q.key;
+                                       : hal::stored_default(q);
+      EXPECT_EQ(hal::get_parameter(q, c), expected) << "setting " << p.key << " changed " << q.key;
     }
   }
 }
@@ -58,17 +58,17 @@ TEST(ParameterTable, EveryKeySetsItsOwnMember) {
 TEST(ParameterTable, RangesRejectOutsideNonFiniteAndFractionalIntegers) {
   const auto* eps_trk = cs::find_slam_parameter("filter.eps_trk_px");
   ASSERT_NE(eps_trk, nullptr);
-  EXPECT_FALSE(cs::parameter_in_range(*eps_trk, 0.0));  // open below
-  EXPECT_TRUE(cs::parameter_in_range(*eps_trk, 100.0));
-  EXPECT_FALSE(cs::parameter_in_range(*eps_trk, 100.5));
-  EXPECT_FALSE(cs::parameter_in_range(*eps_trk, std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_FALSE(hal::parameter_in_range(*eps_trk, 0.0));  // open below
+  EXPECT_TRUE(hal::parameter_in_range(*eps_trk, 100.0));
+  EXPECT_FALSE(hal::parameter_in_range(*eps_trk, 100.5));
+  EXPECT_FALSE(hal::parameter_in_range(*eps_trk, std::numeric_limits<double>::quiet_NaN()));
   const auto* landmarks = cs::find_slam_parameter("filter.max_landmarks");
   ASSERT_NE(landmarks, nullptr);
-  EXPECT_FALSE(cs::parameter_in_range(*landmarks, 2.5));
-  EXPECT_FALSE(cs::parameter_in_range(*landmarks, hal::kMaxLandmarks + 1.0));
+  EXPECT_FALSE(hal::parameter_in_range(*landmarks, 2.5));
+  EXPECT_FALSE(hal::parameter_in_range(*landmarks, hal::kMaxLandmarks + 1.0));
   const auto* flag = cs::find_slam_parameter("filter.invariant_reset");
   ASSERT_NE(flag, nullptr);
-  EXPECT_FALSE(cs::parameter_in_range(*flag, 2.0));
+  EXPECT_FALSE(hal::parameter_in_range(*flag, 2.0));
 }
 
 }  // namespace
