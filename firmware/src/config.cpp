@@ -10,6 +10,7 @@
 #include "cleanslam/firmware/robot_calibration.hpp"
 #include "cleanslam/hal/calibration.hpp"
 #include "cleanslam/hal/calibration_limits.hpp"
+#include "cleanslam/hal/calibration_parameters.hpp"
 #include "cleanslam/hal/capacities.hpp"
 #include "cleanslam/readers/dataset.hpp"
 #include "cleanslam/readers/parameter_yaml.hpp"
@@ -22,98 +23,35 @@ namespace yaml = readers::yaml;
 
 namespace {
 
-// Typed reading with ranges: errors name the file, line and dotted key.
-class Section {
- public:
-  Section(yaml::MappingReader reader, yaml::Diagnostics& d) : m_(std::move(reader)), d_(d) {}
-
-  void number(const char* key, double& v, hal::calibration_limits::Limit limit) {
-    readers::read_parameter_field(m_, key, hal::parameter_field(v), limit.lo, limit.hi,
-                                  limit.lo_open, "", d_);
-  }
-  // A number checked by the caller.
-  double value(const char* key, double fallback) { return m_.optional_double(key, fallback); }
-  void integer(const char* key, int& v, int lo, int hi) {
-    readers::read_parameter_field(m_, key, hal::parameter_field(v), lo, hi, false, "", d_);
-  }
-  template <std::size_t N>
-  void numbers(const char* key, std::array<double, N>& out) {
-    const auto v = m_.optional_doubles(key, std::vector<double>(out.begin(), out.end()), N);
-    if (v.size() == N) {
-      std::copy(v.begin(), v.end(), out.begin());
-    }
-  }
-  Section sub(const char* key) { return Section(m_.optional_mapping(key), d_); }
-  // The dotted path of this section with a trailing dot ("calibration.camera.").
-  [[nodiscard]] std::string prefix() const { return m_.path(""); }
-  void error(const char* key, const std::string& message) {
-    d_.errors.push_back(where(key) + ": " + message);
-  }
-  void warning(const char* key, const std::string& message) {
-    d_.warnings.push_back(where(key) + ": " + message);
-  }
-  void done() { m_.report_unknown_keys(); }
-
- private:
-  std::string where(const char* key) {
-    const yaml::Node* n = m_.node(key);
-    return (n != nullptr ? n->location.str() + ": " : std::string()) + m_.path(key);
-  }
-  yaml::MappingReader m_;
-  yaml::Diagnostics& d_;
-};
-
 namespace lim = hal::calibration_limits;
 
-void read_calibration(Section c, hal::Calibration& cal) {
-  {
-    Section cam = c.sub("camera");
-    cam.integer("width", cal.camera.width, 1, hal::kImageWidth);
-    cam.integer("height", cal.camera.height, 1, hal::kImageHeight);
-    cal.camera.fx = cam.value("fx", cal.camera.fx);
-    cal.camera.fy = cam.value("fy", cal.camera.fy);
-    cal.camera.cx = cam.value("cx", cal.camera.cx);
-    cal.camera.cy = cam.value("cy", cal.camera.cy);
-    for (const auto& e : lim::camera_geometry_errors(cal.camera, cam.prefix())) {
-      cam.error(e.key, e.message);
-    }
-    cam.numbers("distortion", cal.camera.distortion);
-    for (const double k : cal.camera.distortion) {
-      if (!lim::kDistortion.contains(k)) {
-        cam.error("distortion", lim::out_of_range(k, lim::kDistortion));
-        break;
+// "file:line: calibration.camera.key", or the dotted key alone when the key is absent.
+std::string where(yaml::MappingReader& m, const char* key) {
+  const yaml::Node* n = m.node(key);
+  return (n != nullptr ? n->location.str() + ": " : std::string()) + m.path(key);
+}
+
+// The calibration section through hal::calibration_parameters(), then the camera's size,
+// intrinsics and mount together.
+void read_calibration(yaml::MappingReader c, hal::Calibration& cal, yaml::Diagnostics& d) {
+  for (const char* group : {"camera", "wheels", "gyro"}) {
+    yaml::MappingReader m = c.optional_mapping(group);
+    readers::read_parameters(m, hal::calibration_parameters(), std::string(group) + ".", cal, d);
+    if (std::string_view(group) == "camera") {
+      for (const auto& e : lim::camera_geometry_errors(cal.camera, m.path(""))) {
+        d.errors.push_back(where(m, e.key) + ": " + e.message);
+      }
+      if (const char* bad = hal::camera_mount_error(cal.camera.T_body_cam)) {
+        d.errors.push_back(where(m, "T_body_cam") + ": " + bad);
+      }
+      if (std::abs(cal.camera.time_offset_s) > lim::kPlausibleTimeOffsetS) {
+        d.warnings.push_back(where(m, "time_offset_s") + ": " +
+                             lim::implausible_time_offset(cal.camera.time_offset_s));
       }
     }
-    cam.numbers("T_body_cam", cal.camera.T_body_cam);
-    if (const char* bad = hal::camera_mount_error(cal.camera.T_body_cam)) {
-      cam.error("T_body_cam", bad);
-    }
-    cam.number("pixel_noise", cal.camera.pixel_noise, lim::kPixelNoisePx);
-    cam.number("time_offset_s", cal.camera.time_offset_s, lim::kTimeOffsetS);
-    if (std::abs(cal.camera.time_offset_s) > lim::kPlausibleTimeOffsetS) {
-      cam.warning("time_offset_s", lim::implausible_time_offset(cal.camera.time_offset_s));
-    }
-    cam.done();
+    m.report_unknown_keys();
   }
-  {
-    Section w = c.sub("wheels");
-    auto& wh = cal.wheels;
-    w.number("ticks_per_meter_left", wh.ticks_per_meter_left, lim::kTicksPerMeter);
-    w.number("ticks_per_meter_right", wh.ticks_per_meter_right, lim::kTicksPerMeter);
-    w.number("wheel_base", wh.wheel_base, lim::kWheelBaseM);
-    w.number("distance_noise", wh.distance_noise, lim::kFraction);
-    w.number("scale_error", wh.scale_error, lim::kFraction);
-    w.done();
-  }
-  {
-    Section g = c.sub("gyro");
-    g.number("noise_density", cal.gyro.noise_density, lim::kNoiseDensity);
-    g.number("bias_instability", cal.gyro.bias_instability, lim::kGyroBias);
-    g.number("scale_error", cal.gyro.scale_error, lim::kFraction);
-    g.number("bias_walk", cal.gyro.bias_walk, lim::kGyroBias);
-    g.done();
-  }
-  c.done();
+  c.report_unknown_keys();
 }
 
 // The keys of both tables below `prefix`, nested mappings included.
@@ -140,7 +78,7 @@ void write_section(std::string& out, const std::string& prefix, const std::strin
 
 void read_all(const yaml::Node& root, yaml::Diagnostics& d, FirmwareConfig& cfg) {
   yaml::MappingReader top(root, "", d);
-  read_calibration(Section(top.optional_mapping("calibration"), d), cfg.calibration);
+  read_calibration(top.optional_mapping("calibration"), cfg.calibration, d);
   read_section(top, "", cfg, d);
   top.report_unknown_keys();
   const SourceSettings& source = cfg.source;
@@ -272,11 +210,7 @@ ConfigResult load_config(const std::string& path, const std::vector<std::string>
 std::string config_text(const FirmwareConfig& c) {
   std::string out;
   readers::write_parameters(out, firmware_parameters(), "", "", c, false);
-  out += "calibration:\n";
-  std::istringstream cal(readers::sensors_yaml_text(c.calibration));
-  for (std::string line; std::getline(cal, line);) {
-    out.append("  ").append(line).append("\n");
-  }
+  parameter_sections::write_calibration(out, c.calibration, false);
   for (const std::string& section : parameter_sections::children("")) {
     out.append(section).append(":\n");
     write_section(out, section + ".", "  ", c);

@@ -22,39 +22,12 @@ constexpr const char* kHead =
 # with); a dataset source uses its own sensors.yaml unless calibration_from_dataset is false.
 )yaml";
 
-constexpr const char* kCalibration =
+constexpr const char* kCalibrationIntro =
     R"yaml(
 # The sensors.yaml schema of docs/dataset-format.md. These values are a sample, not a robot's: on
 # the robot (source.kind: drivers), fx, fy, cx, cy, distortion, T_body_cam, ticks_per_meter_left,
 # ticks_per_meter_right, wheel_base and noise_density are measured (docs/bring-up.md); until the
 # configuration sets them, the health is degraded and the firmware says which are missing.
-calibration:
-  camera:
-    width: 320                # pixels, at most 320
-    height: 240               # pixels, at most 240
-    fx: 280                   # pinhole intrinsics, pixels, origin at the top-left pixel's centre;
-    fy: 280                   #   fx, fy: a field of view across width, height of 10 to 150 degrees
-    cx: 159.5                 #   cx, cy: inside the image, [-0.5, width - 0.5], [-0.5, height - 0.5]
-    cy: 119.5
-    distortion: [0, 0, 0, 0]  # radial-tangential k1 k2 p1 p2
-    T_body_cam:               # camera optical frame (z forward, x right, y down) in the body frame, 4x4 row-major
-      [0, 0, 1, 0.1,
-       -1, 0, 0, 0,
-       0, -1, 0, 0.08,
-       0, 0, 0, 1]
-    pixel_noise: 0.5          # std. dev. of a feature position, pixels, > 0
-    time_offset_s: 0          # camera stamp + offset = the gyro/encoder clock, [-1, 1] s
-  wheels:
-    ticks_per_meter_left: 4000   # [100, 1e7]: at least a tick per centimetre
-    ticks_per_meter_right: 4000  # [100, 1e7]
-    wheel_base: 0.235            # metres between the wheel contact points, > 0
-    distance_noise: 0.02         # std. dev. of the travelled distance as a fraction of it, [0, 1]
-    scale_error: 0               # std. dev. of the distance scale factor error, [0, 1] (0: not stated)
-  gyro:
-    noise_density: 0.0005        # rad/s/sqrt(Hz), > 0
-    bias_instability: 0.0001     # rad/s, [0, 1]
-    scale_error: 0               # std. dev. of the rate scale factor error, [0, 1] (0: not stated)
-    bias_walk: 0                 # bias random walk, rad/s/sqrt(s), [0, 1] (0: not stated)
 )yaml";
 
 struct SectionIntro {
@@ -109,7 +82,8 @@ std::string sample_config_text() {
   const FirmwareConfig defaults{};
   std::string out = kHead;
   readers::write_parameters(out, firmware_parameters(), "", "", defaults, true);
-  out += kCalibration;
+  out += kCalibrationIntro;
+  parameter_sections::write_calibration(out, defaults.calibration, true);
   for (const std::string& section : parameter_sections::children("")) {
     const std::string_view intro = section_intro(section);
     out.append("\n").append(intro).append(intro.empty() ? "" : "\n").append(section).append(":\n");

@@ -1,11 +1,13 @@
 #include "cleanslam/readers/parameter_yaml.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "cleanslam/readers/dataset.hpp"
@@ -20,6 +22,14 @@ using hal::ParameterType;
 std::string where(yaml::MappingReader& section, std::string_view name) {
   const yaml::Node* n = section.node(name);
   return (n != nullptr ? n->location.str() + ": " : std::string()) + section.path(name);
+}
+
+std::string out_of_range(const std::string& where, double v, double lo, double hi, bool lo_open,
+                         std::string_view doc) {
+  std::ostringstream s;
+  s << where << ": " << v << " is out of range " << (lo_open ? "(" : "[") << lo << ", " << hi << "]"
+    << (doc.empty() ? "" : ": ") << doc;
+  return s.str();
 }
 
 std::string choice_list(std::span<const std::string_view> names) {
@@ -71,6 +81,23 @@ void read_parameter_field(yaml::MappingReader& section, std::string_view name,
                          choice_list(f.choices));
       return;
     }
+    case ParameterType::kNumbers: {
+      auto* v = static_cast<double*>(f.value);
+      const std::size_t errors_before = d.errors.size();
+      const std::vector<double> x =
+          section.optional_doubles(name, std::vector<double>(v, v + f.count), f.count);
+      if (d.errors.size() != errors_before || x.size() != f.count) {
+        return;
+      }
+      for (const double e : x) {
+        if (e < lo || e > hi || (lo_open && e <= lo) || !std::isfinite(e)) {
+          d.errors.push_back(out_of_range(where(section, name), e, lo, hi, lo_open, doc));
+          return;
+        }
+      }
+      std::copy(x.begin(), x.end(), v);
+      return;
+    }
     case ParameterType::kInt: {
       auto& v = *static_cast<int*>(f.value);
       const std::int64_t x = section.optional_int(name, v);
@@ -97,10 +124,7 @@ void read_parameter_field(yaml::MappingReader& section, std::string_view name,
     return;
   }
   if (x < lo || x > hi || (lo_open && x <= lo) || !std::isfinite(x)) {
-    std::ostringstream s;
-    s << where(section, name) << ": " << x << " is out of range " << (lo_open ? "(" : "[") << lo
-      << ", " << hi << "]" << (doc.empty() ? "" : ": ") << doc;
-    d.errors.push_back(s.str());
+    d.errors.push_back(out_of_range(where(section, name), x, lo, hi, lo_open, doc));
     return;
   }
   switch (f.type) {
@@ -151,6 +175,14 @@ std::string parameter_field_text(const hal::ParameterField& f) {
       return std::string(f.choices[static_cast<std::size_t>(f.get_choice(f.value))]);
     case ParameterType::kText:
       return yaml_quoted(*static_cast<const std::string*>(f.value));
+    case ParameterType::kNumbers: {
+      const auto* v = static_cast<const double*>(f.value);
+      std::string s = "[";
+      for (std::size_t i = 0; i < f.count; ++i) {
+        s.append(i == 0 ? "" : ", ").append(format_double(v[i]));
+      }
+      return s + "]";
+    }
   }
   return {};
 }
@@ -169,6 +201,11 @@ std::string parameter_comment(const hal::ParameterField& f, double lo, double hi
     }
     s << " (" << names << ")";
     return s.str();
+  }
+  const bool unbounded =
+      lo <= -std::numeric_limits<double>::max() && hi >= std::numeric_limits<double>::max();
+  if (unbounded) {
+    return unit.empty() ? s.str() : s.str() + " (" + std::string(unit) + ")";
   }
   s << " (";
   if (!unit.empty()) {

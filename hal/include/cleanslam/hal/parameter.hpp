@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -22,6 +23,7 @@ enum class ParameterType {
   kScaledSize,   // std::size_t holding the configured number times `scale` (MiB as bytes)
   kChoice,       // an enum, configured by the name of its value
   kText,         // std::string
+  kNumbers,      // `count` doubles, each within the range
 };
 
 // The storage of one key in a configuration struct.
@@ -30,6 +32,7 @@ struct ParameterField {
   void* value = nullptr;
   double scale = 1.0;
   bool integral = false;                        // kScaledSize: a whole number of units
+  std::size_t count = 0;                        // kNumbers
   std::span<const std::string_view> choices{};  // kChoice: the names of the values 0, 1, ...
   int (*get_choice)(const void*) = nullptr;
   void (*set_choice)(void*, int) = nullptr;
@@ -77,8 +80,14 @@ void enum_set(void* p, int v) {
 // An enum whose values 0, 1, ... are named by `names`.
 template <typename Enum>
 constexpr ParameterField choice_field(Enum& v, std::span<const std::string_view> names) {
-  return {ParameterType::kChoice, &v, 1.0, false, names, &detail::enum_get<Enum>,
+  return {ParameterType::kChoice, &v, 1.0, false, 0, names, &detail::enum_get<Enum>,
           &detail::enum_set<Enum>};
+}
+
+// A fixed number of doubles, configured as a sequence.
+template <std::size_t N>
+constexpr ParameterField numbers_field(std::array<double, N>& v) {
+  return {ParameterType::kNumbers, v.data(), 1.0, false, N};
 }
 
 // One key of a configuration struct `Config`. Numbers travel as double (exact for every int and
@@ -124,6 +133,7 @@ double get_parameter(const Parameter<Config>& p, const Config& config) {
     case ParameterType::kChoice:
       return static_cast<double>(f.get_choice(f.value));
     case ParameterType::kText:
+    case ParameterType::kNumbers:
       break;
   }
   return 0.0;
@@ -156,6 +166,7 @@ void set_parameter(const Parameter<Config>& p, Config& config, double v) {
       f.set_choice(f.value, static_cast<int>(v));
       break;
     case ParameterType::kText:
+    case ParameterType::kNumbers:
       break;
   }
 }
