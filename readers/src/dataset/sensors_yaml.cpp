@@ -6,13 +6,29 @@
 #include <sstream>
 
 #include "cleanslam/hal/calibration_limits.hpp"
+#include "cleanslam/hal/calibration_parameters.hpp"
 #include "cleanslam/readers/bounded_file.hpp"
 #include "cleanslam/readers/dataset.hpp"
+#include "cleanslam/readers/parameter_yaml.hpp"
 #include "cleanslam/readers/yaml_document.hpp"
 
 namespace cleanslam::readers {
 namespace {
 namespace lim = hal::calibration_limits;
+
+// The keys a dataset's sensors.yaml must give (hal::calibration_parameters() has the rest's
+// defaults).
+constexpr std::string_view kRequiredKeys[] = {"camera.width",
+                                              "camera.height",
+                                              "camera.fx",
+                                              "camera.fy",
+                                              "camera.cx",
+                                              "camera.cy",
+                                              "camera.T_body_cam",
+                                              "wheels.ticks_per_meter_left",
+                                              "wheels.ticks_per_meter_right",
+                                              "wheels.wheel_base",
+                                              "gyro.noise_density"};
 }  // namespace
 
 std::string format_double(double v) {
@@ -39,91 +55,36 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
   if (!doc.ok()) return R::failure(doc.error());
   yaml::Diagnostics diag;
   yaml::MappingReader root(*doc, "", diag);
-  // A number outside its hal::calibration_limits is an error naming line and key.
-  const auto check = [&diag](yaml::MappingReader& m, const char* key, lim::Limit limit) {
-    const yaml::Node* n = m.node(key);
-    auto v = n != nullptr ? yaml::as_double(*n, m.path(key)) : Result<double>(limit.hi);
-    if (v.ok() && !limit.contains(*v)) {
-      diag.errors.push_back(n->location.str() + ": " + m.path(key) + ": " +
-                            lim::out_of_range(*v, limit));
-    }
-  };
   if (doc->is_null()) return R::failure(file_name + ":1: empty document, expected sensors");
   hal::Calibration c;
-  {
-    yaml::MappingReader cam = root.required_mapping("camera");
-    const auto width = cam.required_int("width");
-    const auto height = cam.required_int("height");
-    constexpr std::int64_t kIntMax = std::numeric_limits<int>::max();
-    c.camera.width = static_cast<int>(std::clamp<std::int64_t>(width, -1, kIntMax));
-    c.camera.height = static_cast<int>(std::clamp<std::int64_t>(height, -1, kIntMax));
-    c.camera.fx = cam.required_double("fx");
-    c.camera.fy = cam.required_double("fy");
-    c.camera.cx = cam.required_double("cx");
-    c.camera.cy = cam.required_double("cy");
-    if (diag.ok()) {
-      for (const auto& e : lim::camera_geometry_errors(c.camera, cam.path(""))) {
-        const yaml::Node* n = cam.node(e.key);
+  for (const char* group : {"camera", "wheels", "gyro"}) {
+    yaml::MappingReader m = root.required_mapping(group);
+    const std::string prefix = std::string(group) + ".";
+    for (const std::string_view key : kRequiredKeys) {
+      if (key.starts_with(prefix)) {
+        m.required_node(key.substr(prefix.size()));
+      }
+    }
+    read_parameters(m, hal::calibration_parameters(), prefix, c, diag);
+    if (std::string_view(group) == "camera" && diag.ok()) {
+      for (const auto& e : lim::camera_geometry_errors(c.camera, m.path(""))) {
+        const yaml::Node* n = m.node(e.key);
         diag.errors.push_back((n != nullptr ? n->location.str() : file_name) + ": " +
-                              cam.path(e.key) + ": " + e.message);
+                              m.path(e.key) + ": " + e.message);
       }
-    }
-    const auto dist = cam.optional_doubles("distortion", {0.0, 0.0, 0.0, 0.0}, 4);
-    for (std::size_t i = 0; i < 4 && i < dist.size(); ++i) {
-      c.camera.distortion[i] = dist[i];
-      if (!lim::kDistortion.contains(dist[i])) {
-        diag.errors.push_back(cam.node("distortion")->location.str() + ": " +
-                              cam.path("distortion") + ": " +
-                              lim::out_of_range(dist[i], lim::kDistortion));
-      }
-    }
-    const yaml::Node* tnode = cam.node("T_body_cam");
-    const auto t = cam.required_doubles("T_body_cam", 16);
-    if (t.size() == 16) {
-      std::copy(t.begin(), t.end(), c.camera.T_body_cam.begin());
       if (const char* bad = hal::camera_mount_error(c.camera.T_body_cam)) {
-        diag.errors.push_back((tnode != nullptr ? tnode->location.str() : file_name) +
+        const yaml::Node* n = m.node("T_body_cam");
+        diag.errors.push_back((n != nullptr ? n->location.str() : file_name) +
                               ": camera.T_body_cam: " + bad);
       }
+      if (std::abs(c.camera.time_offset_s) > lim::kPlausibleTimeOffsetS) {
+        const yaml::Node* n = m.node("time_offset_s");
+        diag.warnings.push_back((n != nullptr ? n->location.str() : file_name) + ": " +
+                                m.path("time_offset_s") + ": " +
+                                lim::implausible_time_offset(c.camera.time_offset_s));
+      }
     }
-    c.camera.pixel_noise = cam.optional_double("pixel_noise", c.camera.pixel_noise);
-    c.camera.time_offset_s = cam.optional_double("time_offset_s", 0.0);
-    check(cam, "pixel_noise", lim::kPixelNoisePx);
-    check(cam, "time_offset_s", lim::kTimeOffsetS);
-    if (std::abs(c.camera.time_offset_s) > lim::kPlausibleTimeOffsetS &&
-        lim::kTimeOffsetS.contains(c.camera.time_offset_s)) {
-      const yaml::Node* n = cam.node("time_offset_s");
-      diag.warnings.push_back((n != nullptr ? n->location.str() : file_name) + ": " +
-                              cam.path("time_offset_s") + ": " +
-                              lim::implausible_time_offset(c.camera.time_offset_s));
-    }
-    cam.report_unknown_keys();
-  }
-  {
-    yaml::MappingReader w = root.required_mapping("wheels");
-    c.wheels.ticks_per_meter_left = w.required_double("ticks_per_meter_left");
-    c.wheels.ticks_per_meter_right = w.required_double("ticks_per_meter_right");
-    c.wheels.wheel_base = w.required_double("wheel_base");
-    c.wheels.distance_noise = w.optional_double("distance_noise", c.wheels.distance_noise);
-    c.wheels.scale_error = w.optional_double("scale_error", c.wheels.scale_error);
-    check(w, "ticks_per_meter_left", lim::kTicksPerMeter);
-    check(w, "ticks_per_meter_right", lim::kTicksPerMeter);
-    check(w, "wheel_base", lim::kWheelBaseM);
-    check(w, "distance_noise", lim::kFraction);
-    check(w, "scale_error", lim::kFraction);
-    w.report_unknown_keys();
-  }
-  {
-    yaml::MappingReader g = root.required_mapping("gyro");
-    c.gyro.noise_density = g.required_double("noise_density");
-    c.gyro.bias_instability = g.optional_double("bias_instability", c.gyro.bias_instability);
-    c.gyro.scale_error = g.optional_double("scale_error", c.gyro.scale_error);
-    c.gyro.bias_walk = g.optional_double("bias_walk", c.gyro.bias_walk);
-    check(g, "noise_density", lim::kNoiseDensity);
-    check(g, "bias_instability", lim::kGyroBias);
-    check(g, "scale_error", lim::kFraction);
-    check(g, "bias_walk", lim::kGyroBias);
-    g.report_unknown_keys();
+    m.report_unknown_keys();
   }
   root.report_unknown_keys();
   if (warnings != nullptr) {

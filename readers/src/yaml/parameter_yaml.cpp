@@ -105,7 +105,8 @@ void read_parameter_field(yaml::MappingReader& section, std::string_view name,
       const auto ihi = static_cast<std::int64_t>(hi);
       if (x < ilo || x > ihi) {
         d.errors.push_back(where(section, name) + ": " + std::to_string(x) + " is out of range [" +
-                           std::to_string(ilo) + ", " + std::to_string(ihi) + "]");
+                           std::to_string(ilo) + ", " + std::to_string(ihi) + "]" +
+                           (doc.empty() ? "" : ": ") + std::string(doc));
         return;
       }
       v = static_cast<int>(x);

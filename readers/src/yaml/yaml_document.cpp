@@ -309,6 +309,10 @@ const Node* MappingReader::node(std::string_view key) {
   return lookup(key, false);
 }
 
+const Node* MappingReader::required_node(std::string_view key) {
+  return lookup(key, true);
+}
+
 template <typename T, typename Convert>
 T MappingReader::get(std::string_view key, bool required, T fallback, Convert convert) {
   const Node* n = lookup(key, required);

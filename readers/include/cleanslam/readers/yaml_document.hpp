@@ -103,6 +103,8 @@ class MappingReader {
   MappingReader optional_mapping(std::string_view key);
   // The raw node of a key (marked as known), or nullptr.
   const Node* node(std::string_view key);
+  // The same; an absent (or null) key is a "missing required key" error.
+  const Node* required_node(std::string_view key);
 
   // An error "file:line: prefix.key: unknown key; did you mean ..." for each key not asked for.
   void report_unknown_keys();
