@@ -64,7 +64,14 @@ void read_parameter_field(yaml::MappingReader& section, std::string_view name,
     }
     case ParameterType::kText: {
       auto& v = *static_cast<std::string*>(f.value);
-      v = section.optional_string(name, v);
+      std::string text = section.optional_string(name, v);
+      if (!f.choices.empty() &&
+          std::find(f.choices.begin(), f.choices.end(), text) == f.choices.end()) {
+        d.errors.push_back(where(section, name) + ": \"" + text + "\" is not one of " +
+                           choice_list(f.choices));
+        return;
+      }
+      v = std::move(text);
       return;
     }
     case ParameterType::kChoice: {
@@ -82,10 +89,10 @@ void read_parameter_field(yaml::MappingReader& section, std::string_view name,
       return;
     }
     case ParameterType::kNumbers: {
-      auto* v = static_cast<double*>(f.value);
+      std::vector<double> current(f.count);
+      f.get_numbers(f.value, current.data());
       const std::size_t errors_before = d.errors.size();
-      const std::vector<double> x =
-          section.optional_doubles(name, std::vector<double>(v, v + f.count), f.count);
+      const std::vector<double> x = section.optional_doubles(name, current, f.count);
       if (d.errors.size() != errors_before || x.size() != f.count) {
         return;
       }
@@ -95,7 +102,7 @@ void read_parameter_field(yaml::MappingReader& section, std::string_view name,
           return;
         }
       }
-      std::copy(x.begin(), x.end(), v);
+      f.set_numbers(f.value, x.data());
       return;
     }
     case ParameterType::kInt: {
@@ -115,6 +122,7 @@ void read_parameter_field(yaml::MappingReader& section, std::string_view name,
     case ParameterType::kDouble:
     case ParameterType::kFloat:
     case ParameterType::kScaledInt64:
+    case ParameterType::kUnsigned64:
     case ParameterType::kScaledSize:
       break;
   }
@@ -137,6 +145,9 @@ void read_parameter_field(yaml::MappingReader& section, std::string_view name,
       break;
     case ParameterType::kScaledInt64:
       *static_cast<std::int64_t*>(f.value) = std::llround(x * f.scale);
+      break;
+    case ParameterType::kUnsigned64:
+      *static_cast<std::uint64_t*>(f.value) = static_cast<std::uint64_t>(x);
       break;
     case ParameterType::kScaledSize:
       *static_cast<std::size_t*>(f.value) = static_cast<std::size_t>(std::llround(x * f.scale));
@@ -165,9 +176,12 @@ std::string parameter_field_text(const hal::ParameterField& f) {
     }
     case ParameterType::kDouble:
       return format_double(*static_cast<const double*>(f.value));
-    case ParameterType::kScaledInt64:
-      return format_double(static_cast<double>(*static_cast<const std::int64_t*>(f.value)) /
-                           f.scale);
+    case ParameterType::kScaledInt64: {
+      const std::int64_t v = *static_cast<const std::int64_t*>(f.value);
+      return f.integral ? std::to_string(v) : format_double(static_cast<double>(v) / f.scale);
+    }
+    case ParameterType::kUnsigned64:
+      return std::to_string(*static_cast<const std::uint64_t*>(f.value));
     case ParameterType::kScaledSize: {
       const double v = static_cast<double>(*static_cast<const std::size_t*>(f.value)) / f.scale;
       return f.integral ? std::to_string(std::llround(v)) : format_double(v);
@@ -177,7 +191,8 @@ std::string parameter_field_text(const hal::ParameterField& f) {
     case ParameterType::kText:
       return yaml_quoted(*static_cast<const std::string*>(f.value));
     case ParameterType::kNumbers: {
-      const auto* v = static_cast<const double*>(f.value);
+      std::vector<double> v(f.count);
+      f.get_numbers(f.value, v.data());
       std::string s = "[";
       for (std::size_t i = 0; i < f.count; ++i) {
         s.append(i == 0 ? "" : ", ").append(format_double(v[i]));
@@ -192,10 +207,10 @@ std::string parameter_comment(const hal::ParameterField& f, double lo, double hi
                               std::string_view unit, std::string_view doc) {
   std::ostringstream s;
   s << doc;
-  if (f.type == ParameterType::kBool || f.type == ParameterType::kText) {
+  if (f.type == ParameterType::kBool || (f.type == ParameterType::kText && f.choices.empty())) {
     return s.str();
   }
-  if (f.type == ParameterType::kChoice) {
+  if (f.type == ParameterType::kChoice || f.type == ParameterType::kText) {
     std::string names;
     for (std::size_t i = 0; i < f.choices.size(); ++i) {
       names.append(i == 0 ? "" : " | ").append(f.choices[i]);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -20,10 +21,11 @@ enum class ParameterType {
   kInt,
   kBool,
   kScaledInt64,  // std::int64_t holding the configured number times `scale` (seconds as ns)
+  kUnsigned64,   // std::uint64_t (a seed)
   kScaledSize,   // std::size_t holding the configured number times `scale` (MiB as bytes)
   kChoice,       // an enum, configured by the name of its value
-  kText,         // std::string
-  kNumbers,      // `count` doubles, each within the range
+  kText,         // std::string, one of `choices` when there are any
+  kNumbers,      // `count` doubles, each within the range, through get_numbers and set_numbers
 };
 
 // The storage of one key in a configuration struct.
@@ -36,6 +38,8 @@ struct ParameterField {
   std::span<const std::string_view> choices{};  // kChoice: the names of the values 0, 1, ...
   int (*get_choice)(const void*) = nullptr;
   void (*set_choice)(void*, int) = nullptr;
+  void (*get_numbers)(const void*, double*) = nullptr;
+  void (*set_numbers)(void*, const double*) = nullptr;
 };
 
 constexpr ParameterField parameter_field(double& v) {
@@ -52,6 +56,16 @@ constexpr ParameterField parameter_field(bool& v) {
 }
 inline ParameterField parameter_field(std::string& v) {
   return {ParameterType::kText, &v};
+}
+// A text that must be one of `allowed`.
+inline ParameterField text_field(std::string& v, std::span<const std::string_view> allowed) {
+  return {ParameterType::kText, &v, 1.0, false, 0, allowed};
+}
+constexpr ParameterField parameter_field(std::int64_t& v) {
+  return {ParameterType::kScaledInt64, &v, 1.0, true};
+}
+constexpr ParameterField parameter_field(std::uint64_t& v) {
+  return {ParameterType::kUnsigned64, &v, 1.0, true};
 }
 // A duration held in nanoseconds, configured in seconds.
 constexpr ParameterField seconds_field(std::int64_t& ns) {
@@ -75,6 +89,16 @@ template <typename Enum>
 void enum_set(void* p, int v) {
   *static_cast<Enum*>(p) = static_cast<Enum>(v);
 }
+template <std::size_t N>
+void array_get(const void* p, double* out) {
+  const auto& a = *static_cast<const std::array<double, N>*>(p);
+  std::copy(a.begin(), a.end(), out);
+}
+template <std::size_t N>
+void array_set(void* p, const double* in) {
+  auto& a = *static_cast<std::array<double, N>*>(p);
+  std::copy(in, in + N, a.begin());
+}
 }  // namespace detail
 
 // An enum whose values 0, 1, ... are named by `names`.
@@ -87,7 +111,8 @@ constexpr ParameterField choice_field(Enum& v, std::span<const std::string_view>
 // A fixed number of doubles, configured as a sequence.
 template <std::size_t N>
 constexpr ParameterField numbers_field(std::array<double, N>& v) {
-  return {ParameterType::kNumbers, v.data(), 1.0, false, N};
+  return {ParameterType::kNumbers, &v, 1.0, false, N, {}, nullptr, nullptr, &detail::array_get<N>,
+          &detail::array_set<N>};
 }
 
 // One key of a configuration struct `Config`. Numbers travel as double (exact for every int and
@@ -128,6 +153,8 @@ double get_parameter(const Parameter<Config>& p, const Config& config) {
       return *static_cast<const bool*>(f.value) ? 1.0 : 0.0;
     case ParameterType::kScaledInt64:
       return static_cast<double>(*static_cast<const std::int64_t*>(f.value)) / f.scale;
+    case ParameterType::kUnsigned64:
+      return static_cast<double>(*static_cast<const std::uint64_t*>(f.value));
     case ParameterType::kScaledSize:
       return static_cast<double>(*static_cast<const std::size_t*>(f.value)) / f.scale;
     case ParameterType::kChoice:
@@ -158,6 +185,9 @@ void set_parameter(const Parameter<Config>& p, Config& config, double v) {
       break;
     case ParameterType::kScaledInt64:
       *static_cast<std::int64_t*>(f.value) = std::llround(v * f.scale);
+      break;
+    case ParameterType::kUnsigned64:
+      *static_cast<std::uint64_t*>(f.value) = static_cast<std::uint64_t>(v);
       break;
     case ParameterType::kScaledSize:
       *static_cast<std::size_t*>(f.value) = static_cast<std::size_t>(std::llround(v * f.scale));
