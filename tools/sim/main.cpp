@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cleanslam/sim_hal/sim/scenario.hpp"
+#include "cleanslam/sim_hal/sim/scenario_parameters.hpp"
 #include "cleanslam/sim_hal/sim/simulator.hpp"
 
 namespace {
@@ -24,7 +25,8 @@ void usage(std::FILE* out) {
                "            (sensors.yaml, *.csv, cam0/) of an earlier run there\n"
                "  --seed N  override the scenario's seed\n"
                "  --set k=v override one scenario value, e.g. --set camera.rate_hz=1\n"
-               "  --list    print the built-in scenarios, each with its description\n");
+               "  --list    print the built-in scenarios, each with its description\n"
+               "  --keys    print every scenario key with its default, unit, range and meaning\n");
 }
 
 // A scenario's description: the comment its YAML text starts with.
@@ -58,6 +60,10 @@ int main(int argc, char** argv) {
       for (const auto& n : sim::builtin_scenario_names()) {
         std::printf("%-22s %s\n", n.c_str(), description(sim::builtin_scenario_text(n)).c_str());
       }
+      return 0;
+    }
+    if (a == "--keys") {
+      std::fputs(sim::scenario_keys_text().c_str(), stdout);
       return 0;
     }
     if (a == "--force") {

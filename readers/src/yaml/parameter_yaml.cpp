@@ -54,6 +54,7 @@ void read_parameter_field(yaml::MappingReader& section, std::string_view name,
                           const hal::ParameterField& f, double lo, double hi, bool lo_open,
                           std::string_view doc, yaml::Diagnostics& d) {
   if (!section.has(name)) {
+    section.node(name);  // a known key: an unknown one's nearest match may be it
     return;
   }
   switch (f.type) {

@@ -2,6 +2,9 @@
 
 #include <array>
 #include <string_view>
+#include <vector>
+
+#include "cleanslam/readers/parameter_yaml.hpp"
 
 namespace cleanslam::sim_hal::sim {
 
@@ -261,6 +264,25 @@ const std::array kScenarioParameters{
 
 std::span<const hal::Parameter<Scenario>> scenario_parameters() {
   return kScenarioParameters;
+}
+
+std::string scenario_keys_text() {
+  const Scenario defaults{};
+  std::string out =
+      "# Every scenario key with its default (a built-in scenario sets some otherwise), unit\n"
+      "# and range. Besides these: base (a scenario this one overrides), world.seed (the\n"
+      "# landmarks' placement; unset: seed), world.furniture and world.walls ([{min: [x, y, z],\n"
+      "# max: [x, y, z]}]), world.moved ([{furniture: index, by: [dx, dy]}]), path.stops\n"
+      "# ([{at_s: t, duration_s: d}]), path.waypoints ([[x, y], ...]) and checkerboard.on_floor\n"
+      "# ([x, y, yaw_deg]; unset: a pose of its own in each frame).\n";
+  readers::write_parameters(out, scenario_parameters(), "", "", defaults, true);
+  std::vector<std::string> sections;
+  readers::parameter_children(scenario_parameters(), "", sections);
+  for (const std::string& section : sections) {
+    out.append(section).append(":\n");
+    readers::write_parameters(out, scenario_parameters(), section + ".", "  ", defaults, true);
+  }
+  return out;
 }
 
 }  // namespace cleanslam::sim_hal::sim

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <span>
+#include <string>
 
 #include "cleanslam/hal/parameter.hpp"
 #include "cleanslam/sim_hal/sim/scenario.hpp"
@@ -12,5 +13,9 @@
 namespace cleanslam::sim_hal::sim {
 
 std::span<const hal::Parameter<Scenario>> scenario_parameters();
+
+// Every key of the table with its default, range, unit and meaning, as a scenario file writes
+// it (cleanslam-sim --keys).
+std::string scenario_keys_text();
 
 }  // namespace cleanslam::sim_hal::sim
