@@ -93,7 +93,8 @@ bool Ekf::reset(const Vector6d& camera_pose, const Matrix6d& P0) {
   const Matrix6d P0s = 0.5 * (P0 + P0.transpose());
   if (!camera_pose.allFinite() || camera_pose.cwiseAbs().maxCoeff() > kMaxAbsState ||
       !P0s.allFinite() || P0s.diagonal().maxCoeff() > kMaxVariance ||
-      P0s.diagonal().minCoeff() < 0.0 || !positive_semidefinite(P0s)) {
+      P0s.diagonal().tail<3>().maxCoeff() > kMaxAngleVariance || P0s.diagonal().minCoeff() < 0.0 ||
+      !positive_semidefinite(P0s)) {
     return false;
   }
   start(camera_pose, P0s);
@@ -234,11 +235,13 @@ PredictStatus Ekf::predict(const OdometryIncrement& u) {
     cross_.noalias() = F.lazyProduct(P_.block(0, kPose, 6, nl));
   }
   // A finite increment can still overflow (an increment of 1e300 m): nothing is changed then.
-  // So can one of 1e6 m or a variance of 1e12 m^2 leave the range (kMaxAbsState, kMaxVariance).
+  // So can one of 1e6 m or a variance of 1e12 m^2 leave the range (kMaxAbsState, kMaxVariance,
+  // kMaxAngleVariance).
   if (!predicted.allFinite() || !Pn.allFinite() || !cross_.allFinite()) {
     return reject(PredictResult::kNonFinite);
   }
-  if (predicted.cwiseAbs().maxCoeff() > kMaxAbsState || Pn.diagonal().maxCoeff() > kMaxVariance) {
+  if (predicted.cwiseAbs().maxCoeff() > kMaxAbsState || Pn.diagonal().maxCoeff() > kMaxVariance ||
+      Pn.diagonal().tail<3>().maxCoeff() > kMaxAngleVariance) {
     return reject(PredictResult::kOutOfRange);
   }
   // Semi-definite P and Q predict a semi-definite P; what rounding of extreme inputs leaves

@@ -74,6 +74,8 @@ TEST_F(EkfRangeTest, ResetRefusesAPoseOrCovarianceItCannotRepresent) {
   nan_pose(5) = std::numeric_limits<double>::quiet_NaN();
   cs::Matrix6d huge = good;
   huge(2, 2) = 2.0 * cs::Ekf::kMaxVariance;
+  cs::Matrix6d unknown_yaw = good;
+  unknown_yaw(5, 5) = 2.0 * cs::Ekf::kMaxAngleVariance;
   cs::Matrix6d indefinite = good;
   indefinite(0, 1) = indefinite(1, 0) = 1e-3;  // correlation 10
   cs::Matrix6d negative = good;
@@ -86,6 +88,7 @@ TEST_F(EkfRangeTest, ResetRefusesAPoseOrCovarianceItCannotRepresent) {
   EXPECT_FALSE(ekf.reset(far, good));
   EXPECT_FALSE(ekf.reset(nan_pose, good));
   EXPECT_FALSE(ekf.reset(a_pose(), huge));
+  EXPECT_FALSE(ekf.reset(a_pose(), unknown_yaw));
   EXPECT_FALSE(ekf.reset(a_pose(), indefinite));
   EXPECT_FALSE(ekf.reset(a_pose(), negative));
   EXPECT_FALSE(ekf.reset(a_pose(), infinite));
@@ -108,15 +111,20 @@ TEST_F(EkfRangeTest, PredictionBeyondTheRangeIsRefused) {
   far.dx_c(2) = 2.0 * cs::Ekf::kMaxAbsState;
   cs::OdometryIncrement uncertain = a_step();
   uncertain.Q(0, 0) = 2.0 * cs::Ekf::kMaxVariance;
+  cs::OdometryIncrement turn_unknown = a_step();
+  turn_unknown.Q(5, 5) = 2.0 * cs::Ekf::kMaxAngleVariance;
   EXPECT_EQ(ekf.predict(far).result, cs::PredictResult::kOutOfRange);
   EXPECT_EQ(ekf.predict(uncertain).result, cs::PredictResult::kOutOfRange);
+  EXPECT_EQ(ekf.predict(turn_unknown).result, cs::PredictResult::kOutOfRange);
   expect_unchanged();
-  EXPECT_EQ(ekf.counters().predictions_rejected, rejected + 2);
+  EXPECT_EQ(ekf.counters().predictions_rejected, rejected + 3);
 
-  // Inside the range (a kilometre, a variance of 1e6 m^2) it is applied.
+  // Inside the range (a kilometre, a variance of 1e6 m^2, a heading variance of 10 rad^2) it is
+  // applied.
   cs::OdometryIncrement long_step = a_step();
   long_step.dx_c(2) = 1e3;
   long_step.Q(0, 0) = 1e6;
+  long_step.Q(5, 5) = 10.0;
   EXPECT_TRUE(ekf.predict(long_step).applied());
 }
 

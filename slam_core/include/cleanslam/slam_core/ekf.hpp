@@ -69,6 +69,11 @@ class Ekf {
   // their rounding, finite (inputs of 1e150 and beyond, found by fuzzing, overflowed them).
   static constexpr double kMaxAbsState = 1e6;
   static constexpr double kMaxVariance = 1e12;
+  // An angle of the pose with a standard deviation of 10 rad is not known at all, and nothing
+  // linearized about it means anything: the pose's angles have no variance beyond this. A yaw
+  // variance near kMaxVariance, taken back by a merge, left P indefinite beyond its rounding in
+  // the rows that a landmark initialized later multiplied by its lever arm (found by fuzzing).
+  static constexpr double kMaxAngleVariance = 100.0;
 
   // Camera pose (x, y, z, roll, pitch, yaw) and its covariance; the map is emptied. False, with
   // nothing changed, for a pose or covariance not finite, out of range or not positive
