@@ -137,25 +137,7 @@ void read_parameter_field(yaml::MappingReader& section, std::string_view name,
     d.errors.push_back(out_of_range(where(section, name), x, lo, hi, lo_open, doc));
     return;
   }
-  switch (f.type) {
-    case ParameterType::kDouble:
-      *static_cast<double*>(f.value) = x;
-      break;
-    case ParameterType::kFloat:
-      *static_cast<float*>(f.value) = static_cast<float>(x);
-      break;
-    case ParameterType::kScaledInt64:
-      *static_cast<std::int64_t*>(f.value) = std::llround(x * f.scale);
-      break;
-    case ParameterType::kUnsigned64:
-      *static_cast<std::uint64_t*>(f.value) = static_cast<std::uint64_t>(x);
-      break;
-    case ParameterType::kScaledSize:
-      *static_cast<std::size_t*>(f.value) = static_cast<std::size_t>(std::llround(x * f.scale));
-      break;
-    default:
-      break;
-  }
+  hal::set_field_number(f, x);
 }
 
 std::string parameter_field_text(const hal::ParameterField& f) {

@@ -137,11 +137,8 @@ ParameterType parameter_type(const Parameter<Config>& p) {
   return p.field(probe).type;
 }
 
-// A number, a flag or a choice's index.
-template <typename Config>
-double get_parameter(const Parameter<Config>& p, const Config& config) {
-  // The field accessor only takes the address of the member.
-  const ParameterField f = p.field(const_cast<Config&>(config));  // NOLINT
+// The member's number, flag or choice index, in the configured unit (0 for a text or a list).
+inline double field_number(const ParameterField& f) {
   switch (f.type) {
     case ParameterType::kDouble:
       return *static_cast<const double*>(f.value);
@@ -166,10 +163,8 @@ double get_parameter(const Parameter<Config>& p, const Config& config) {
   return 0.0;
 }
 
-// `v` must be in range (parameter_in_range).
-template <typename Config>
-void set_parameter(const Parameter<Config>& p, Config& config, double v) {
-  const ParameterField f = p.field(config);
+// Sets the member from a number in the configured unit; a text or a list is left as it is.
+inline void set_field_number(const ParameterField& f, double v) {
   switch (f.type) {
     case ParameterType::kDouble:
       *static_cast<double*>(f.value) = v;
@@ -199,6 +194,19 @@ void set_parameter(const Parameter<Config>& p, Config& config, double v) {
     case ParameterType::kNumbers:
       break;
   }
+}
+
+// A number, a flag or a choice's index.
+template <typename Config>
+double get_parameter(const Parameter<Config>& p, const Config& config) {
+  // The field accessor only takes the address of the member.
+  return field_number(p.field(const_cast<Config&>(config)));  // NOLINT
+}
+
+// `v` must be in range (parameter_in_range).
+template <typename Config>
+void set_parameter(const Parameter<Config>& p, Config& config, double v) {
+  set_field_number(p.field(config), v);
 }
 
 template <typename Config>
