@@ -15,14 +15,14 @@ constexpr int kMaxSortedCandidates = 4 * hal::kMaxCorners;
 struct HarrisDetector::Planes {
   static constexpr int kRing = 7;  // rows of the vertical blur window (2 * max radius + 1)
   // Structure-tensor products blurred along their row, for the last kRing image rows.
-  std::array<float, kRing * hal::kImageWidth> hxx;
-  std::array<float, kRing * hal::kImageWidth> hxy;
-  std::array<float, kRing * hal::kImageWidth> hyy;
-  std::array<float, hal::kImageWidth> gxx;
-  std::array<float, hal::kImageWidth> gxy;
-  std::array<float, hal::kImageWidth> gyy;
-  std::array<float, kPlaneSize> response;
-  std::array<Corner, kPlaneSize / 4 + hal::kImageWidth> candidates;
+  std::array<float, kRing * hal::kImageWidth> hxx{};
+  std::array<float, kRing * hal::kImageWidth> hxy{};
+  std::array<float, kRing * hal::kImageWidth> hyy{};
+  std::array<float, hal::kImageWidth> gxx{};
+  std::array<float, hal::kImageWidth> gxy{};
+  std::array<float, hal::kImageWidth> gyy{};
+  std::array<float, kPlaneSize> response{};
+  std::array<Corner, kPlaneSize / 4 + hal::kImageWidth> candidates{};
 };
 
 namespace {

@@ -81,15 +81,15 @@ bool make_template(const LandmarkPatch& patch, double scale, float min_std_gray,
   out.scale = s;
   const auto inv = static_cast<float>(1.0 / s);
   std::array<float, kTemplateSide * kTemplateSide> t{};
-  constexpr int half = kTemplateSide / 2;
+  constexpr int kHalf = kTemplateSide / 2;
   // Shrinking (s < 1) averages four samples a quarter of the source spacing apart, so that the
   // coarser sampling does not alias.
   const bool smooth = s < 0.9;
   const float q = 0.25F * inv;
   for (int r = 0; r < kTemplateSide; ++r) {
-    const float y = static_cast<float>(r - half) * inv;
+    const float y = static_cast<float>(r - kHalf) * inv;
     for (int c = 0; c < kTemplateSide; ++c) {
-      const float x = static_cast<float>(c - half) * inv;
+      const float x = static_cast<float>(c - kHalf) * inv;
       float v = 0.0F;
       if (smooth) {
         v = 0.25F * (sample_stored(patch, x - q, y - q) + sample_stored(patch, x + q, y - q) +
