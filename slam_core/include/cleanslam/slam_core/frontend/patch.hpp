@@ -24,8 +24,7 @@ inline constexpr double kMaxPatchScale = 3.0;
 
 // Index of pixel (row r, column c) of a row-major window `cols` pixels wide; r, c >= 0.
 [[nodiscard]] constexpr std::size_t pixel_index(int r, int c, int cols) {
-  return static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) +
-         static_cast<std::size_t>(c);
+  return static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(c);
 }
 
 // A landmark's appearance at its first sighting, centred on the sub-pixel corner, with the
