@@ -172,14 +172,16 @@ bool build(EventReader& reader, Node& out, int depth) {
   }
 }
 
-bool parse_plain_double(std::string_view s, double& out) {
-  if (s.empty()) {
-    return false;
-  }
-  if (s.front() == '+') {
+// Drops a leading '+' (from_chars takes none); false when no digits can follow.
+bool drop_plus_sign(std::string_view& s) {
+  if (!s.empty() && s.front() == '+') {
     s.remove_prefix(1);
   }
-  if (s.empty()) {
+  return !s.empty();
+}
+
+bool parse_plain_double(std::string_view s, double& out) {
+  if (!drop_plus_sign(s)) {
     return false;
   }
   const char* end = s.data() + s.size();
@@ -188,13 +190,7 @@ bool parse_plain_double(std::string_view s, double& out) {
 }
 
 bool parse_plain_int(std::string_view s, std::int64_t& out) {
-  if (s.empty()) {
-    return false;
-  }
-  if (s.front() == '+') {
-    s.remove_prefix(1);
-  }
-  if (s.empty()) {
+  if (!drop_plus_sign(s)) {
     return false;
   }
   const char* end = s.data() + s.size();
