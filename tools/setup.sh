@@ -13,12 +13,13 @@ demo_packages=(
   cmake ninja-build pkg-config g++ file python3 python3-numpy python3-matplotlib
   libeigen3-dev libyaml-dev libpng-dev libgtest-dev libbenchmark-dev libgpiod-dev
 )
+# clang-14, clang-tidy-14: tools/tidy.sh, run by tools/test.sh (its compile database is clang's).
 # python3-skimage: its sample photographs (PNG, CC0 or public domain) texture the rendered room of
 # the realistic-camera scenario; the simulator reads them as PNG (no Python at run time) and falls
 # back to procedural textures, saying so, without them.
 host_test_packages=(
   "${demo_packages[@]}" gpiod libopencv-dev python3-opencv python3-yaml valgrind clang-format
-  can-utils v4l-utils python3-skimage python3-pytest flake8
+  can-utils v4l-utils python3-skimage python3-pytest flake8 clang-14 clang-tidy-14
 )
 host_packages=(
   "${host_test_packages[@]}" g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user qemu-user-static

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The project's test command: installs what is needed, then configures, builds and tests every
-# suite: host (release), sanitizers (ASan+UBSan), aarch64 under qemu-user (with the real-kernel
-# driver tests under qemu-system), armhf (hal and slam_core). Exits non-zero on any failure.
+# The project's test command: installs what is needed, checks the layout (tools/check-format.sh)
+# and clang-tidy's findings on slam_core and the firmware (tools/tidy.sh), then configures, builds
+# and tests every suite: host (release), sanitizers (ASan+UBSan), aarch64 under qemu-user (with
+# the real-kernel driver tests under qemu-system), armhf (hal and slam_core). Exits non-zero on
+# any failure.
 #   tools/test.sh                   every suite
 #   tools/test.sh host-release ...  only the named presets
 set -uo pipefail
@@ -29,6 +31,9 @@ failed_steps=()
 
 if ! tools/check-format.sh; then
   failed_steps+=("format")
+fi
+if ! tools/tidy.sh; then
+  failed_steps+=("tidy")
 fi
 
 run_suite() {

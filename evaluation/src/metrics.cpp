@@ -50,21 +50,31 @@ const char* name_of(Alignment a) {
 // positive). A series without variance counts as one.
 double effective_count(const std::vector<double>& x) {
   const std::size_t n = x.size();
-  if (n < 2) return static_cast<double>(n);
+  if (n < 2) {
+    return static_cast<double>(n);
+  }
   double mean = 0.0;
-  for (double v : x) mean += v;
+  for (double v : x) {
+    mean += v;
+  }
   mean /= static_cast<double>(n);
   const auto autocov = [&](std::size_t k) {
     double c = 0.0;
-    for (std::size_t i = 0; i + k < n; ++i) c += (x[i] - mean) * (x[i + k] - mean);
+    for (std::size_t i = 0; i + k < n; ++i) {
+      c += (x[i] - mean) * (x[i + k] - mean);
+    }
     return c / static_cast<double>(n);
   };
   const double c0 = autocov(0);
-  if (!(c0 > 0.0)) return 1.0;
+  if (!(c0 > 0.0)) {
+    return 1.0;
+  }
   double tau = -1.0;
   for (std::size_t m = 0; 2 * m + 1 < n; ++m) {
     const double pair = (autocov(2 * m) + autocov(2 * m + 1)) / c0;
-    if (!(pair > 0.0)) break;
+    if (!(pair > 0.0)) {
+      break;
+    }
     tau += 2.0 * pair;
   }
   return std::clamp(static_cast<double>(n) / std::max(tau, 1.0), 1.0, static_cast<double>(n));
@@ -73,7 +83,9 @@ double effective_count(const std::vector<double>& x) {
 }  // namespace
 
 std::optional<TumPose> interpolate(const std::vector<readers::GroundTruthPose>& gt, hal::TimeNs t) {
-  if (gt.empty() || t < gt.front().t_ns || t > gt.back().t_ns) return std::nullopt;
+  if (gt.empty() || t < gt.front().t_ns || t > gt.back().t_ns) {
+    return std::nullopt;
+  }
   auto it =
       std::upper_bound(gt.begin(), gt.end(), t,
                        [](hal::TimeNs v, const readers::GroundTruthPose& g) { return v < g.t_ns; });
@@ -116,7 +128,9 @@ readers::Result<Metrics> evaluate(const std::vector<readers::GroundTruthPose>& g
     src.push_back(&e);
   }
   const std::size_t n = est.size();
-  if (n == 0) return R::failure("no estimated pose lies within the ground truth's time span");
+  if (n == 0) {
+    return R::failure("no estimated pose lies within the ground truth's time span");
+  }
   m.poses_evaluated = static_cast<int>(n);
 
   // Alignment: est_aligned = A * est (gt expressed in its own first frame for `none`).
@@ -124,7 +138,9 @@ readers::Result<Metrics> evaluate(const std::vector<readers::GroundTruthPose>& g
   if (alignment == Alignment::kNone) {
     a = est.front().inverse();
     const Isometry3d g0inv = gt.front().inverse();
-    for (auto& g : gt) g = g0inv * g;
+    for (auto& g : gt) {
+      g = g0inv * g;
+    }
   } else {
     Vector3d me = Vector3d::Zero(), mg = Vector3d::Zero();
     for (std::size_t i = 0; i < n; ++i) {
@@ -179,8 +195,12 @@ readers::Result<Metrics> evaluate(const std::vector<readers::GroundTruthPose>& g
     m.ate_max_m = std::max(m.ate_max_m, d);
     const double ang = angle_of(gt[i].linear().transpose() * e.linear());
     rot2 += ang * ang;
-    if (i == n - 1) m.final_error_m = d;
-    if (i > 0) m.path_length_m += (gt[i].translation() - gt[i - 1].translation()).norm();
+    if (i == n - 1) {
+      m.final_error_m = d;
+    }
+    if (i > 0) {
+      m.path_length_m += (gt[i].translation() - gt[i - 1].translation()).norm();
+    }
     if (src[i]->position_covariance) {
       Matrix3d p;
       for (Eigen::Index r = 0; r < 3; ++r) {
@@ -195,7 +215,9 @@ readers::Result<Metrics> evaluate(const std::vector<readers::GroundTruthPose>& g
         nees_sum += nees;
         nees_series.push_back(nees);
         ++m.nees_count;
-        if (nees >= kChi2Low && nees <= kChi2High) ++nees_in;
+        if (nees >= kChi2Low && nees <= kChi2High) {
+          ++nees_in;
+        }
       } else if (m.nees_not_positive_definite++ == 0) {
         m.first_not_positive_definite_s = hal::to_seconds(src[i]->t_ns);
       }
@@ -224,8 +246,12 @@ readers::Result<Metrics> evaluate(const std::vector<readers::GroundTruthPose>& g
   std::size_t j = 0;
   for (std::size_t i = 0; i < n; ++i) {
     j = std::max(j, i + 1);
-    while (j < n && s[j] - s[i] < 1.0) ++j;
-    if (j >= n) break;
+    while (j < n && s[j] - s[i] < 1.0) {
+      ++j;
+    }
+    if (j >= n) {
+      break;
+    }
     const double dist = s[j] - s[i];
     const Isometry3d dg = gt[i].inverse() * gt[j];
     const Isometry3d de = est[i].inverse() * est[j];

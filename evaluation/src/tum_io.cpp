@@ -15,10 +15,16 @@ void split_fields(const std::string& line, std::vector<std::string_view>& out) {
   const std::string_view s(line);
   std::size_t i = 0;
   while (i < s.size()) {
-    while (i < s.size() && (s[i] == ' ' || s[i] == '\t' || s[i] == ',' || s[i] == '\r')) ++i;
+    while (i < s.size() && (s[i] == ' ' || s[i] == '\t' || s[i] == ',' || s[i] == '\r')) {
+      ++i;
+    }
     const std::size_t start = i;
-    while (i < s.size() && s[i] != ' ' && s[i] != '\t' && s[i] != ',' && s[i] != '\r') ++i;
-    if (i > start) out.push_back(s.substr(start, i - start));
+    while (i < s.size() && s[i] != ' ' && s[i] != '\t' && s[i] != ',' && s[i] != '\r') {
+      ++i;
+    }
+    if (i > start) {
+      out.push_back(s.substr(start, i - start));
+    }
   }
 }
 
@@ -51,7 +57,9 @@ readers::Result<std::vector<TumPose>> read_tum(const std::string& path) {
     return R::failure(s.error());
   }
   std::ifstream in(path);
-  if (!in) return R::failure(path + ": cannot open file");
+  if (!in) {
+    return R::failure(path + ": cannot open file");
+  }
   std::vector<TumPose> out;
   std::string line, error;
   std::vector<std::string_view> fields;
@@ -60,13 +68,17 @@ readers::Result<std::vector<TumPose>> read_tum(const std::string& path) {
   while (std::getline(in, line)) {
     ++n;
     split_fields(line, fields);
-    if (fields.empty() || fields[0].front() == '#') continue;
+    if (fields.empty() || fields[0].front() == '#') {
+      continue;
+    }
     const std::string at = where(path, n);
     if (fields.size() != 8) {
       return R::failure(at + "expected 8 fields (t x y z qx qy qz qw), got " +
                         std::to_string(fields.size()));
     }
-    if (!numbers(fields, at, v, error)) return R::failure(error);
+    if (!numbers(fields, at, v, error)) {
+      return R::failure(error);
+    }
     TumPose p;
     p.t_ns = static_cast<hal::TimeNs>(std::llround(v[0] * 1e9));
     if (!out.empty() && p.t_ns <= out.back().t_ns) {
@@ -80,7 +92,9 @@ readers::Result<std::vector<TumPose>> read_tum(const std::string& path) {
     p.orientation_wxyz = {v[7] / qn, v[4] / qn, v[5] / qn, v[6] / qn};
     out.push_back(p);
   }
-  if (out.empty()) return R::failure(path + ": no poses");
+  if (out.empty()) {
+    return R::failure(path + ": no poses");
+  }
   return out;
 }
 
@@ -89,7 +103,9 @@ readers::Status read_covariances(const std::string& path, std::vector<TumPose>& 
     return s;
   }
   std::ifstream in(path);
-  if (!in) return readers::Status::failure(path + ": cannot open file");
+  if (!in) {
+    return readers::Status::failure(path + ": cannot open file");
+  }
   std::string line, error;
   std::vector<std::string_view> fields;
   std::vector<double> v;
@@ -98,23 +114,31 @@ readers::Status read_covariances(const std::string& path, std::vector<TumPose>& 
   while (std::getline(in, line)) {
     ++n;
     split_fields(line, fields);
-    if (fields.empty() || fields[0].front() == '#') continue;
+    if (fields.empty() || fields[0].front() == '#') {
+      continue;
+    }
     const std::string at = where(path, n);
     if (fields.size() != 10 && fields.size() != 37) {
       return readers::Status::failure(
           at + "expected t and 9 (3x3) or 36 (6x6) covariance entries, got " +
           std::to_string(fields.size()) + " fields");
     }
-    if (!numbers(fields, at, v, error)) return readers::Status::failure(error);
+    if (!numbers(fields, at, v, error)) {
+      return readers::Status::failure(error);
+    }
     const auto t = static_cast<hal::TimeNs>(std::llround(v[0] * 1e9));
-    while (k < poses.size() && poses[k].t_ns < t - 1000) ++k;
+    while (k < poses.size() && poses[k].t_ns < t - 1000) {
+      ++k;
+    }
     if (k >= poses.size() || std::llabs(poses[k].t_ns - t) > 1000) {
       return readers::Status::failure(at + "t: no pose with this time stamp in the TUM file");
     }
     std::array<double, 9> c{};
     const std::size_t stride = fields.size() == 10 ? 3 : 6;
     for (std::size_t r = 0; r < 3; ++r) {
-      for (std::size_t col = 0; col < 3; ++col) c[3 * r + col] = v[1 + r * stride + col];
+      for (std::size_t col = 0; col < 3; ++col) {
+        c[3 * r + col] = v[1 + r * stride + col];
+      }
     }
     poses[k].position_covariance = c;
   }

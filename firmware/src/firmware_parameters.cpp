@@ -19,7 +19,7 @@ constexpr std::array<std::string_view, 3> kSourceKinds{"drivers", "dataset", "lo
 constexpr std::array<std::string_view, 2> kSetDownPolicies{"new_map", "relocalize"};
 
 // Key, member, default, range (lo, hi, lo open), unit, meaning. A text's default is the struct's.
-const std::array kFirmwareParameters{
+constexpr std::array kFirmwareParameters{
     P{"calibration_from_dataset", [](C& c) { return parameter_field(c.calibration_from_dataset); },
       1.0, 0.0, 1.0, false, "",
       "a dataset source brings its own sensors.yaml (true) or uses the calibration section"},

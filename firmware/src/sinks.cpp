@@ -62,10 +62,9 @@ void TumWriter::publish(const hal::PoseEstimate& pose) {
     // T_rel = T_0^-1 T: p_rel = R0^T (p - p0), q_rel = q0* q; position covariance R0^T S R0.
     const auto R0 = matrix(q0_);
     const std::array<double, 3> d{p[0] - p0_[0], p[1] - p0_[1], p[2] - p0_[2]};
-    for (int i = 0; i < 3; ++i) {
-      p[static_cast<std::size_t>(i)] = R0[static_cast<std::size_t>(0 * 3 + i)] * d[0] +
-                                       R0[static_cast<std::size_t>(1 * 3 + i)] * d[1] +
-                                       R0[static_cast<std::size_t>(2 * 3 + i)] * d[2];
+    for (std::size_t i = 0; i < 3; ++i) {
+      p[i] =
+          R0[i] * d[0] + R0[3 + i] * d[1] + R0[6 + i] * d[2];  // row-major: R0(k, i) = R0[3k + i]
     }
     q = multiply(conjugate(q0_), q);
     // J = blockdiag(R0^T, I3): cov' = J cov J^T.

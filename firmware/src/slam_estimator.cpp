@@ -72,8 +72,8 @@ int SlamEstimator::landmarks(LandmarkEstimate* out, int max) const {
     const Eigen::Vector3d p = e.landmark(s);
     const Eigen::Matrix3d c = e.landmark_covariance(s);
     l.position_m = {p.x(), p.y(), p.z()};
-    for (int r = 0; r < 3; ++r) {
-      for (int k = 0; k < 3; ++k) {
+    for (Eigen::Index r = 0; r < 3; ++r) {
+      for (Eigen::Index k = 0; k < 3; ++k) {
         l.covariance[static_cast<std::size_t>(3 * r + k)] = c(r, k);
       }
     }

@@ -48,8 +48,12 @@ int camera_command(int argc, char** argv) {
   options.min_coverage = line.number("--min-coverage", options.min_coverage);
   options.max_rms_px = line.number("--max-rms", options.max_rms_px);
   int width = 0, height = 0;
-  if (line.error.empty() && line.positional.size() != 1) line.error = "expected one FOLDER or LOG";
-  if (line.error.empty()) read_board(line, board);
+  if (line.error.empty() && line.positional.size() != 1) {
+    line.error = "expected one FOLDER or LOG";
+  }
+  if (line.error.empty()) {
+    read_board(line, board);
+  }
   if (line.error.empty() && line.has("--size") &&
       !two_sizes(line.values.at("--size"), width, height)) {
     line.error = "--size: expected WxH, e.g. 320x240, got \"" + line.values.at("--size") + "\"";
@@ -61,7 +65,9 @@ int camera_command(int argc, char** argv) {
   }
   const std::string folder = line.positional.front();
   const std::optional<Views> images = read_views("camera", line, folder);
-  if (!images) return 1;
+  if (!images) {
+    return 1;
+  }
   options.progress = [](int done, int total, const std::string& file, bool found) {
     std::fprintf(stderr, "%s camera: [%d/%d] %s: %s\n", kProgram, done, total, file.c_str(),
                  found ? "board found" : "no board");

@@ -10,11 +10,15 @@ namespace cleanslam::calibrate {
 
 double CommandLine::number(const std::string& option, double fallback) {
   const auto it = values.find(option);
-  if (it == values.end()) return fallback;
+  if (it == values.end()) {
+    return fallback;
+  }
   char* end = nullptr;
   const double v = std::strtod(it->second.c_str(), &end);
   if (end == it->second.c_str() || *end != '\0' || !std::isfinite(v)) {
-    if (error.empty()) error = option + ": expected a number, got \"" + it->second + "\"";
+    if (error.empty()) {
+      error = option + ": expected a number, got \"" + it->second + "\"";
+    }
     return fallback;
   }
   return v;
@@ -23,7 +27,9 @@ double CommandLine::number(const std::string& option, double fallback) {
 CommandLine parse_command_line(int argc, char** argv, int first,
                                std::vector<std::string> value_options,
                                std::vector<std::string> flag_options) {
-  for (const char* o : {"--out", "--form", "--base"}) value_options.emplace_back(o);
+  for (const char* o : {"--out", "--form", "--base"}) {
+    value_options.emplace_back(o);
+  }
   flag_options.emplace_back("--force");
   CommandLine line;
   auto known = [](const std::vector<std::string>& list, const std::string& a) {
@@ -60,7 +66,9 @@ bool two_sizes(const std::string& text, int& a, int& b) {
 
 void read_board(CommandLine& line, Checkerboard& board) {
   board.square_m = line.number("--square", 0.0);
-  if (!line.error.empty()) return;
+  if (!line.error.empty()) {
+    return;
+  }
   if (!line.has("--board") || !two_sizes(line.values.at("--board"), board.cols, board.rows)) {
     line.error = "--board: expected the inner corners as COLSxROWS, e.g. 9x6, got \"" +
                  (line.has("--board") ? line.values.at("--board") : std::string()) + "\"";

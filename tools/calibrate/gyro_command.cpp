@@ -33,8 +33,9 @@ int gyro_command(int argc, char** argv) {
   }
   GyroNoiseOptions options;
   options.min_duration_s = line.number("--min-duration", options.min_duration_s);
-  if (line.error.empty() && line.positional.size() != 1)
+  if (line.error.empty() && line.positional.size() != 1) {
     line.error = "expected one DATASET (a folder) or LOG (a firmware log)";
+  }
   if (!line.error.empty()) {
     tell("gyro", line.error);
     gyro_usage(stderr);
@@ -42,7 +43,9 @@ int gyro_command(int argc, char** argv) {
   }
   const std::string folder = line.positional.front();
   const std::optional<readers::Dataset> dataset = read_recording("gyro", folder);
-  if (!dataset) return 1;
+  if (!dataset) {
+    return 1;
+  }
   std::fprintf(stderr, "%s gyro: Allan deviation of %zu samples\n", kProgram, dataset->gyro.size());
   auto n = gyro_noise(*dataset, options);
   if (!n.ok()) {

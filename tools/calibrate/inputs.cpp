@@ -17,7 +17,9 @@ bool is_log(const std::string& path) {
 }
 
 void tell_all(const char* command, const std::vector<std::string>& warnings) {
-  for (const std::string& w : warnings) tell(command, "warning: " + w);
+  for (const std::string& w : warnings) {
+    tell(command, "warning: " + w);
+  }
 }
 
 std::optional<readers::Dataset> read_log_recording(const char* command, const std::string& path) {
@@ -37,7 +39,9 @@ std::optional<readers::Dataset> read_log_recording(const char* command, const st
 }  // namespace
 
 std::optional<readers::Dataset> read_recording(const char* command, const std::string& path) {
-  if (is_log(path)) return read_log_recording(command, path);
+  if (is_log(path)) {
+    return read_log_recording(command, path);
+  }
   const std::string& folder = path;
   tell(command, "reading " + folder);
   readers::Dataset d;
@@ -82,7 +86,9 @@ std::optional<Views> read_views(const char* command, CommandLine& line, const st
       tell(command, path + ": no images (png, jpg, jpeg, pgm, bmp)");
       return std::nullopt;
     }
-    if (line.has("--every")) tell(command, "warning: --every thins a log's frames only");
+    if (line.has("--every")) {
+      tell(command, "warning: --every thins a log's frames only");
+    }
     tell(command, std::to_string(v.size()) + " images in " + path);
     return v;
   }

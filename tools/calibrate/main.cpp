@@ -37,10 +37,18 @@ int main(int argc, char** argv) {
     usage(stdout);
     return 0;
   }
-  if (command == "wheels") return cal::wheels_command(argc - 1, argv + 1);
-  if (command == "gyro") return cal::gyro_command(argc - 1, argv + 1);
-  if (command == "camera") return cal::camera_command(argc - 1, argv + 1);
-  if (command == "mount") return cal::mount_command(argc - 1, argv + 1);
+  if (command == "wheels") {
+    return cal::wheels_command(argc - 1, argv + 1);
+  }
+  if (command == "gyro") {
+    return cal::gyro_command(argc - 1, argv + 1);
+  }
+  if (command == "camera") {
+    return cal::camera_command(argc - 1, argv + 1);
+  }
+  if (command == "mount") {
+    return cal::mount_command(argc - 1, argv + 1);
+  }
   std::fprintf(stderr, "cleanslam-calibrate: unknown command \"%s\"\n", argv[1]);
   usage(stderr);
   return 2;

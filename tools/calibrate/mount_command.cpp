@@ -49,8 +49,12 @@ int mount_command(int argc, char** argv) {
   BoardOnFloor spot;
   spot.yaw_rad = line.number("--yaw", 0.0) * std::numbers::pi / 180.0;
   const double max_rms = line.number("--max-rms", 2.0);
-  if (line.error.empty() && line.positional.size() != 1) line.error = "expected one FOLDER or LOG";
-  if (line.error.empty()) read_board(line, board);
+  if (line.error.empty() && line.positional.size() != 1) {
+    line.error = "expected one FOLDER or LOG";
+  }
+  if (line.error.empty()) {
+    read_board(line, board);
+  }
   char tail = 0;
   if (line.error.empty() &&
       (!line.has("--at") || std::sscanf(line.values.at("--at").c_str(), "%lf,%lf%c", &spot.x_m,
@@ -73,7 +77,9 @@ int mount_command(int argc, char** argv) {
   }
   const std::string folder = line.positional.front();
   const std::optional<Views> images = read_views("mount", line, folder);
-  if (!images) return 1;
+  if (!images) {
+    return 1;
+  }
   auto m = calibrate_mount(*images, board, spot, intrinsics->camera, max_rms);
   if (!m.ok()) {
     tell("mount", m.error());

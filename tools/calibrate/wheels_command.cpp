@@ -36,8 +36,9 @@ int wheels_command(int argc, char** argv) {
   WheelCalibrationOptions options;
   options.straight_length_m = line.number("--straight", 0.0);
   options.min_standstill_s = line.number("--min-standstill", options.min_standstill_s);
-  if (line.error.empty() && line.positional.size() != 1)
+  if (line.error.empty() && line.positional.size() != 1) {
     line.error = "expected one DATASET (a folder) or LOG (a firmware log)";
+  }
   if (line.error.empty() && !line.has("--straight")) {
     line.error = "--straight METRES: the straight drive's measured length is needed";
   }
@@ -48,7 +49,9 @@ int wheels_command(int argc, char** argv) {
   }
   const std::string folder = line.positional.front();
   const std::optional<readers::Dataset> dataset = read_recording("wheels", folder);
-  if (!dataset) return 1;
+  if (!dataset) {
+    return 1;
+  }
   auto c = calibrate_wheels(*dataset, options);
   if (!c.ok()) {
     tell("wheels", c.error());

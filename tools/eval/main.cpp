@@ -44,13 +44,21 @@ int main(int argc, char** argv) {
       usage(stdout);
       return 0;
     } else if (a == "--gt") {
-      if (!value(gt_path)) return 2;
+      if (!value(gt_path)) {
+        return 2;
+      }
     } else if (a == "--est") {
-      if (!value(est_path)) return 2;
+      if (!value(est_path)) {
+        return 2;
+      }
     } else if (a == "--cov") {
-      if (!value(cov_path)) return 2;
+      if (!value(cov_path)) {
+        return 2;
+      }
     } else if (a == "--align") {
-      if (!value(align_name)) return 2;
+      if (!value(align_name)) {
+        return 2;
+      }
       if (align_name == "none") {
         align = ev::Alignment::kNone;
       } else if (align_name == "se2") {

@@ -165,7 +165,9 @@ bool on_boundary(const sim::Renderer& r, const sim::Pose3& wc, double u, double 
 }
 
 double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
+  if (v.empty()) {
+    return 0.0;
+  }
   const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1));
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
   return v[k];
@@ -211,7 +213,9 @@ void summarize_by_boundary(const char* interior, const char* boundary, const std
   for (bool b : {false, true}) {
     part.clear();
     for (const Sample& x : s) {
-      if (x.boundary == b) part.push_back(x);
+      if (x.boundary == b) {
+        part.push_back(x);
+      }
     }
     summarize(b ? boundary : interior, part, outlier_px);
   }
@@ -224,7 +228,9 @@ std::vector<long long> frame_stamps(const std::string& dataset) {
   std::ifstream in(dataset + "/cam0/data.csv");
   std::string line;
   while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
+    if (line.empty() || line[0] == '#') {
+      continue;
+    }
     out.push_back(std::stoll(line.substr(0, line.find(','))));
   }
   return out;
@@ -243,16 +249,22 @@ std::vector<Row> read_diagnostics(const std::string& path) {
   std::ifstream in(path);
   std::string line;
   while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
+    if (line.empty() || line[0] == '#') {
+      continue;
+    }
     std::vector<std::string> f;
     std::size_t p = 0;
     while (true) {
       const std::size_t q = line.find(',', p);
       f.push_back(line.substr(p, q - p));
-      if (q == std::string::npos) break;
+      if (q == std::string::npos) {
+        break;
+      }
       p = q + 1;
     }
-    if (f.size() < 6) continue;
+    if (f.size() < 6) {
+      continue;
+    }
     out.push_back({std::stoll(f[0]), std::stoi(f[2]), f[3], std::stod(f[4]), std::stod(f[5])});
   }
   return out;
@@ -289,8 +301,12 @@ int replay_errors(const Options& o, const sim::Scenario& sc, const sim::Trajecto
   }
   std::size_t k = 0;
   for (const Row& r : rows) {
-    while (k + 1 < stamps.size() && stamps[k] < r.t_ns) ++k;
-    if (stamps[k] != r.t_ns || r.slot < 0 || r.slot >= static_cast<int>(truth.size())) continue;
+    while (k + 1 < stamps.size() && stamps[k] < r.t_ns) {
+      ++k;
+    }
+    if (stamps[k] != r.t_ns || r.slot < 0 || r.slot >= static_cast<int>(truth.size())) {
+      continue;
+    }
     const double t = 0.013 + static_cast<double>(k) / cam.rate_hz;
     const sim::Pose3 wc = sim::compose(sim::Trajectory::body_pose(traj.at(t)), bc);
     Truth& tr = truth[static_cast<std::size_t>(r.slot)];
@@ -303,10 +319,14 @@ int replay_errors(const Options& o, const sim::Scenario& sc, const sim::Trajecto
       tr.surface = hit.surface;
       continue;
     }
-    if (!tr.valid || (r.status != "updated" && r.status != "gated")) continue;
+    if (!tr.valid || (r.status != "updated" && r.status != "gated")) {
+      continue;
+    }
     double u = 0.0;
     double v = 0.0;
-    if (!sim::project(cam, wc.apply_inverse(tr.point), u, v)) continue;
+    if (!sim::project(cam, wc.apply_inverse(tr.point), u, v)) {
+      continue;
+    }
     const Sample s{std::hypot(r.u - u, r.v - v),  r.u - u,     r.v - v,
                    static_cast<int>(k - tr.born), tr.boundary, 0.0F};
     (r.status == "updated" ? updated : gated).push_back(s);
@@ -325,7 +345,9 @@ int replay_errors(const Options& o, const sim::Scenario& sc, const sim::Trajecto
 
 int main(int argc, char** argv) {
   Options o;
-  if (!parse_args(argc, argv, o)) return 2;
+  if (!parse_args(argc, argv, o)) {
+    return 2;
+  }
   o.overrides.emplace_back("camera.mode=images");
   auto loaded = sim::load_scenario(o.scenario, o.overrides);
   if (!loaded) {
@@ -369,7 +391,9 @@ int main(int argc, char** argv) {
   const double dt = 1.0 / cam.rate_hz;
   for (int k = 0; k < o.frames; ++k) {
     const double t = 0.013 + static_cast<double>(k) * dt;
-    if (t > traj.duration()) break;
+    if (t > traj.duration()) {
+      break;
+    }
     const sim::Pose3 wc = sim::compose(sim::Trajectory::body_pose(traj.at(t)), bc);
     frame_exposure.render(renderer, traj, t, image_rng, image);
     const auto view = image.view();
@@ -416,7 +440,9 @@ int main(int argc, char** argv) {
       }
       if (!r.found) {
         ++misses;
-        if (++tr.misses >= 3) continue;
+        if (++tr.misses >= 3) {
+          continue;
+        }
       } else {
         tr.misses = 0;
         samples.push_back({std::hypot(ex, ey), ex, ey, tr.age, tr.boundary, r.ncc});
@@ -433,12 +459,18 @@ int main(int argc, char** argv) {
       for (const auto& [ou, ov] : occupied) {
         free = free && std::hypot(ou - c.x, ov - c.y) > 20.0;
       }
-      if (!free) continue;
+      if (!free) {
+        continue;
+      }
       const auto hit = renderer.point_at(wc, c.x, c.y);
-      if (hit.surface < 0) continue;
+      if (hit.surface < 0) {
+        continue;
+      }
       Track tr;
       const double depth = wc.apply_inverse(hit.point).z;
-      if (!fe::capture_patch(view, c.x, c.y, depth, tr.patch)) continue;
+      if (!fe::capture_patch(view, c.x, c.y, depth, tr.patch)) {
+        continue;
+      }
       tr.point = hit.point;
       tr.boundary = on_boundary(renderer, wc, c.x, c.y, hit);
       ++spawned;
@@ -462,7 +494,9 @@ int main(int argc, char** argv) {
   for (const auto& bin : bins) {
     part.clear();
     for (const Sample& s : samples) {
-      if (s.age >= bin[0] && s.age <= bin[1]) part.push_back(s);
+      if (s.age >= bin[0] && s.age <= bin[1]) {
+        part.push_back(s);
+      }
     }
     char label[32];
     std::snprintf(label, sizeof label, "age %d..%d", bin[0], std::min(bin[1], 999));

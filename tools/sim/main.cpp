@@ -136,7 +136,9 @@ int main(int argc, char** argv) {
   // A counter on a terminal; else a line at every tenth.
   auto progress = [&](double f) {
     const int pct = tty ? static_cast<int>(f * 100.0) : static_cast<int>(f * 10.0) * 10;
-    if (pct == last_percent) return;
+    if (pct == last_percent) {
+      return;
+    }
     last_percent = pct;
     if (tty) {
       std::fprintf(stderr, "\rcleanslam-sim: %s %3d%%", scenario->name.c_str(), pct);
@@ -146,7 +148,9 @@ int main(int argc, char** argv) {
     std::fflush(stderr);
   };
   auto result = sim::simulate(*scenario, positional[1], progress);
-  if (tty) std::fprintf(stderr, "\n");
+  if (tty) {
+    std::fprintf(stderr, "\n");
+  }
   if (!result.ok()) {
     std::fprintf(stderr, "cleanslam-sim: %s\n", result.error().c_str());
     return 1;
@@ -162,6 +166,8 @@ int main(int argc, char** argv) {
       positional[1].c_str(), s.duration_s, s.path_length_m, s.landmarks, s.frames,
       s.frames_without_features, s.mean_features, 100.0 * s.fraction_frames_5_to_10,
       100.0 * s.fraction_frames_5_or_more, s.longest_gap_s, s.slip_events);
-  if (!s.images.empty()) std::fprintf(stderr, "  images: %s\n", s.images.c_str());
+  if (!s.images.empty()) {
+    std::fprintf(stderr, "  images: %s\n", s.images.c_str());
+  }
   return 0;
 }

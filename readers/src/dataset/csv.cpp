@@ -9,7 +9,9 @@ namespace cleanslam::readers {
 namespace {
 
 std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) {
+    s.remove_prefix(1);
+  }
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) {
     s.remove_suffix(1);
   }
@@ -27,7 +29,9 @@ std::string quote(std::string_view s) {
 std::string join(const std::vector<std::string>& v) {
   std::string out;
   for (const std::string& s : v) {
-    if (!out.empty()) out += ',';
+    if (!out.empty()) {
+      out += ',';
+    }
     out += s;
   }
   return out;
@@ -36,16 +40,24 @@ std::string join(const std::vector<std::string>& v) {
 }  // namespace
 
 bool parse_int64(std::string_view s, std::int64_t& out) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  if (s.empty()) return false;
+  if (!s.empty() && s.front() == '+') {
+    s.remove_prefix(1);
+  }
+  if (s.empty()) {
+    return false;
+  }
   const char* end = s.data() + s.size();
   auto [ptr, ec] = std::from_chars(s.data(), end, out);
   return ec == std::errc() && ptr == end;
 }
 
 bool parse_finite_double(std::string_view s, double& out) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  if (s.empty()) return false;
+  if (!s.empty() && s.front() == '+') {
+    s.remove_prefix(1);
+  }
+  if (s.empty()) {
+    return false;
+  }
   const char* end = s.data() + s.size();
   auto [ptr, ec] = std::from_chars(s.data(), end, out);
   return ec == std::errc() && ptr == end && std::isfinite(out);
@@ -100,10 +112,16 @@ Status CsvReader::open(const std::string& path, const CsvSpec& spec) {
   in_.close();
   in_.clear();
   Status bounded = check_bounded_file(path, kCsvFileLimit);
-  if (!bounded) return bounded;
+  if (!bounded) {
+    return bounded;
+  }
   in_.open(path, std::ios::binary);
-  if (!in_) return Status::failure(path + ": cannot open file");
-  if (!std::getline(in_, line_)) return Status::failure(path + ":1: empty file, expected a header");
+  if (!in_) {
+    return Status::failure(path + ": cannot open file");
+  }
+  if (!std::getline(in_, line_)) {
+    return Status::failure(path + ":1: empty file, expected a header");
+  }
   const std::string_view header = trim(line_);
   std::string expected(1, '#');
   expected += join(spec.columns);
@@ -112,7 +130,9 @@ Status CsvReader::open(const std::string& path, const CsvSpec& spec) {
                            quote(header));
   }
   split_csv_line(header.substr(1), fields_);
-  for (std::string_view f : fields_) columns_.emplace_back(f);
+  for (std::string_view f : fields_) {
+    columns_.emplace_back(f);
+  }
   std::vector<std::string> with_optional = spec.columns;
   with_optional.insert(with_optional.end(), spec.optional_columns.begin(),
                        spec.optional_columns.end());
@@ -133,7 +153,9 @@ std::optional<CsvRow> CsvReader::next() {
   while (!done_ && std::getline(in_, line_)) {
     ++line_no_;
     const std::string_view body = trim(line_);
-    if (body.empty()) continue;
+    if (body.empty()) {
+      continue;
+    }
     if (in_.eof()) {
       done_ = true;
       const std::string cut = path_ + ":" + std::to_string(line_no_) +
@@ -155,7 +177,9 @@ std::optional<CsvRow> CsvReader::next() {
     }
     return row;
   }
-  if (!done_ && in_.bad()) error_ = path_ + ": read error";
+  if (!done_ && in_.bad()) {
+    error_ = path_ + ": read error";
+  }
   done_ = true;
   return std::nullopt;
 }
@@ -165,13 +189,21 @@ Status read_csv(const std::string& path, const CsvSpec& spec,
                 std::vector<std::string>* columns_out) {
   CsvReader reader;
   Status s = reader.open(path, spec);
-  if (!s) return s;
-  if (columns_out != nullptr) *columns_out = reader.columns();
+  if (!s) {
+    return s;
+  }
+  if (columns_out != nullptr) {
+    *columns_out = reader.columns();
+  }
   while (const std::optional<CsvRow> row = reader.next()) {
     std::string err = on_row(*row);
-    if (!err.empty()) return Status::failure(std::move(err));
+    if (!err.empty()) {
+      return Status::failure(std::move(err));
+    }
   }
-  if (!reader.error().empty()) return Status::failure(reader.error());
+  if (!reader.error().empty()) {
+    return Status::failure(reader.error());
+  }
   return Status();
 }
 

@@ -14,7 +14,9 @@ struct RowFormat;
 // Tick counts are 32-bit counters; values written as unsigned (up to 2^32 - 1) wrap.
 std::string read_ticks(const CsvRow& row, std::size_t i, std::int32_t& out) {
   auto v = row.integer(i);
-  if (!v.ok()) return v.error();
+  if (!v.ok()) {
+    return v.error();
+  }
   if (*v < std::numeric_limits<std::int32_t>::min() ||
       *v > static_cast<std::int64_t>(std::numeric_limits<std::uint32_t>::max())) {
     return row.fail(i, std::to_string(*v) + " does not fit a 32-bit counter");
@@ -29,16 +31,22 @@ struct RowFormat<hal::GyroSample> {
   static constexpr bool kStrictlyIncreasing = true;
   static std::string read_fields(const CsvRow& row, std::size_t index, hal::GyroSample& g) {
     auto wz = row.number(1);
-    if (!wz.ok()) return wz.error();
+    if (!wz.ok()) {
+      return wz.error();
+    }
     g.wz_rad_s = *wz;
     g.wx_rad_s = 0.0;
     g.wy_rad_s = 0.0;
     g.has_xy = false;
     if (row.size() == 4) {
       auto wx = row.number(2);
-      if (!wx.ok()) return wx.error();
+      if (!wx.ok()) {
+        return wx.error();
+      }
       auto wy = row.number(3);
-      if (!wy.ok()) return wy.error();
+      if (!wy.ok()) {
+        return wy.error();
+      }
       g.wx_rad_s = *wx;
       g.wy_rad_s = *wy;
       g.has_xy = true;
@@ -54,7 +62,9 @@ struct RowFormat<hal::EncoderSample> {
   static constexpr bool kStrictlyIncreasing = true;
   static std::string read_fields(const CsvRow& row, std::size_t index, hal::EncoderSample& e) {
     std::string err = read_ticks(row, 1, e.left_ticks);
-    if (err.empty()) err = read_ticks(row, 2, e.right_ticks);
+    if (err.empty()) {
+      err = read_ticks(row, 2, e.right_ticks);
+    }
     e.seq = static_cast<std::uint32_t>(index);
     return err;
   }
@@ -66,7 +76,9 @@ struct RowFormat<CameraIndexRow> {
   static constexpr bool kStrictlyIncreasing = true;
   static std::string read_fields(const CsvRow& row, std::size_t /*index*/, CameraIndexRow& c) {
     const std::string_view name = row.text(1);
-    if (name.empty()) return row.fail(1, "empty file name");
+    if (name.empty()) {
+      return row.fail(1, "empty file name");
+    }
     const bool parent = name == ".." || name.starts_with("../") || name.ends_with("/..") ||
                         name.find("/../") != std::string_view::npos;
     if (name.front() == '/' || parent) {
@@ -85,12 +97,20 @@ struct RowFormat<FeatureRow> {
   static constexpr bool kStrictlyIncreasing = false;  // the rows of a frame share its stamp
   static std::string read_fields(const CsvRow& row, std::size_t /*index*/, FeatureRow& f) {
     auto id = row.integer(1);
-    if (!id.ok()) return id.error();
-    if (*id < 0) return row.fail(1, "track id must be non-negative");
+    if (!id.ok()) {
+      return id.error();
+    }
+    if (*id < 0) {
+      return row.fail(1, "track id must be non-negative");
+    }
     auto u = row.number(2);
-    if (!u.ok()) return u.error();
+    if (!u.ok()) {
+      return u.error();
+    }
     auto v = row.number(3);
-    if (!v.ok()) return v.error();
+    if (!v.ok()) {
+      return v.error();
+    }
     f.observation = hal::FeatureObservation{*id, *u, *v};
     return {};
   }
@@ -104,7 +124,9 @@ struct RowFormat<GroundTruthPose> {
     double v[7];
     for (std::size_t i = 0; i < 7; ++i) {
       auto x = row.number(i + 1);
-      if (!x.ok()) return x.error();
+      if (!x.ok()) {
+        return x.error();
+      }
       v[i] = *x;
     }
     const double n = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
@@ -123,8 +145,12 @@ struct RowFormat<LiftRow> {
   static constexpr bool kStrictlyIncreasing = true;
   static std::string read_fields(const CsvRow& row, std::size_t /*index*/, LiftRow& l) {
     auto v = row.integer(1);
-    if (!v.ok()) return v.error();
-    if (*v != 0 && *v != 1) return row.fail(1, "expected 0 or 1, got " + std::to_string(*v));
+    if (!v.ok()) {
+      return v.error();
+    }
+    if (*v != 0 && *v != 1) {
+      return row.fail(1, "expected 0 or 1, got " + std::to_string(*v));
+    }
     l.lifted = *v == 1;
     return {};
   }
@@ -134,11 +160,17 @@ template <typename Row>
 Result<std::vector<Row>> read_all(const std::string& path, const RowLimits& limits) {
   RowReader<Row> reader;
   Status s = reader.open(path, limits);
-  if (!s) return Result<std::vector<Row>>::failure(s.error());
+  if (!s) {
+    return Result<std::vector<Row>>::failure(s.error());
+  }
   std::vector<Row> out;
   Row row;
-  while (reader.next(row)) out.push_back(row);
-  if (!reader.error().empty()) return Result<std::vector<Row>>::failure(reader.error());
+  while (reader.next(row)) {
+    out.push_back(row);
+  }
+  if (!reader.error().empty()) {
+    return Result<std::vector<Row>>::failure(reader.error());
+  }
   return out;
 }
 
@@ -175,10 +207,14 @@ bool RowReader<Row>::next(Row& out) {
                            std::to_string(previous_) + " (rows must be sorted by time)");
       return false;
     }
-    if (!within_span(*row, *t)) continue;
+    if (!within_span(*row, *t)) {
+      continue;
+    }
     out.t_ns = *t;
     error_ = RowFormat<Row>::read_fields(*row, kept_, out);
-    if (!error_.empty()) return false;
+    if (!error_.empty()) {
+      return false;
+    }
     previous_ = *t;
     ++kept_;
     return true;
@@ -189,9 +225,15 @@ bool RowReader<Row>::next(Row& out) {
 
 template <typename Row>
 bool RowReader<Row>::within_span(const CsvRow& row, hal::TimeNs t) {
-  if (kept_ == 0) span_end_ = hal::add_saturated(t, limits_.max_span_ns);
-  if (t <= span_end_) return true;
-  if (limits_.refused != nullptr) ++*limits_.refused;
+  if (kept_ == 0) {
+    span_end_ = hal::add_saturated(t, limits_.max_span_ns);
+  }
+  if (t <= span_end_) {
+    return true;
+  }
+  if (limits_.refused != nullptr) {
+    ++*limits_.refused;
+  }
   if (limits_.warnings != nullptr && ++told_ <= kMaxTold) {
     limits_.warnings->push_back(row.fail(
         0,

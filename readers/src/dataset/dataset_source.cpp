@@ -35,7 +35,9 @@ struct DatasetSource::Streams {
     const RowLimits limits{max_span_ns, &told_before, nullptr};
     const std::string& folder = summary.folder;
     Status s = start(gyro, dataset_file(folder, DatasetFile::kGyro), limits);
-    if (s) s = start(encoders, dataset_file(folder, DatasetFile::kEncoders), limits);
+    if (s) {
+      s = start(encoders, dataset_file(folder, DatasetFile::kEncoders), limits);
+    }
     if (s && summary.has_camera) {
       s = start(camera, dataset_file(folder, DatasetFile::kCamera), limits);
     }
@@ -44,7 +46,9 @@ struct DatasetSource::Streams {
     }
     const std::string lift_csv = dataset_file(folder, DatasetFile::kLift);
     std::error_code ec;
-    if (s && std::filesystem::exists(lift_csv, ec)) s = start(lift, lift_csv, limits);
+    if (s && std::filesystem::exists(lift_csv, ec)) {
+      s = start(lift, lift_csv, limits);
+    }
     if (!s) {
       error = s.error();
       end_all();
@@ -55,7 +59,9 @@ struct DatasetSource::Streams {
   template <typename Row>
   Status start(Stream<Row>& stream, const std::string& path, const RowLimits& limits) {
     Status s = stream.reader.open(path, limits);
-    if (s) advance(stream);
+    if (s) {
+      advance(stream);
+    }
     return s;
   }
 
@@ -94,7 +100,9 @@ struct DatasetSource::Streams {
       advance(camera);
     }
     while (features.has_next && features.next.t_ns == f.t_ns) {
-      if (observations.size() < kMaxFeatures) observations.push_back(features.next.observation);
+      if (observations.size() < kMaxFeatures) {
+        observations.push_back(features.next.observation);
+      }
       ++f.feature_rows;
       advance(features);
     }
@@ -120,7 +128,9 @@ Result<DatasetSource> DatasetSource::open(const std::string& folder, const Optio
   DatasetSource src;
   DatasetSummary& summary = src.summary_;
   const auto span = [&summary](const auto& row) {
-    if (summary.first_ns < 0 || row.t_ns < summary.first_ns) summary.first_ns = row.t_ns;
+    if (summary.first_ns < 0 || row.t_ns < summary.first_ns) {
+      summary.first_ns = row.t_ns;
+    }
     summary.last_ns = std::max(summary.last_ns, row.t_ns);
   };
   RowVisitors visit;
@@ -128,7 +138,9 @@ Result<DatasetSource> DatasetSource::open(const std::string& folder, const Optio
   visit.encoders = span;
   Dataset d;
   Status s = scan_dataset(folder, options.load, visit, d);
-  if (!s) return R::failure(s.error());
+  if (!s) {
+    return R::failure(s.error());
+  }
   summary.folder = d.folder;
   summary.calibration = d.calibration;
   summary.has_camera = d.has_camera;
@@ -154,11 +166,15 @@ Result<DatasetSource> DatasetSource::open(const std::string& folder, const Optio
     }
     ++summary.frames;
   }
-  if (!frames.error.empty()) return R::failure(frames.error);
+  if (!frames.error.empty()) {
+    return R::failure(frames.error);
+  }
 
   src.streams_ = std::make_unique<Streams>();
   s = src.streams_->open(summary, options.load.max_span_ns);
-  if (!s) return R::failure(s.error());
+  if (!s) {
+    return R::failure(s.error());
+  }
   return src;
 }
 
@@ -167,13 +183,23 @@ const std::string& DatasetSource::stream_error() const {
 }
 
 hal::TimeNs DatasetSource::next_event_time() const {
-  if (exhausted()) return -1;
+  if (exhausted()) {
+    return -1;
+  }
   const Streams& s = *streams_;
   hal::TimeNs t = kNever;
-  if (s.gyro.has_next) t = std::min(t, s.gyro.next.t_ns);
-  if (s.encoders.has_next) t = std::min(t, s.encoders.next.t_ns);
-  if (s.lift.has_next) t = std::min(t, s.lift.next.t_ns);
-  if (s.has_frame()) t = std::min(t, hal::add_saturated(s.next_frame_time(), frame_offset_ns_));
+  if (s.gyro.has_next) {
+    t = std::min(t, s.gyro.next.t_ns);
+  }
+  if (s.encoders.has_next) {
+    t = std::min(t, s.encoders.next.t_ns);
+  }
+  if (s.lift.has_next) {
+    t = std::min(t, s.lift.next.t_ns);
+  }
+  if (s.has_frame()) {
+    t = std::min(t, hal::add_saturated(s.next_frame_time(), frame_offset_ns_));
+  }
   return t;
 }
 
@@ -183,7 +209,9 @@ bool DatasetSource::exhausted() const {
 }
 
 bool DatasetSource::read(hal::SensorEvent& out) {
-  if (exhausted()) return false;
+  if (exhausted()) {
+    return false;
+  }
   Streams& s = *streams_;
   const hal::TimeNs t = next_event_time();
   out = hal::SensorEvent{};

@@ -30,8 +30,12 @@ Kind sniff(const std::string& path, std::string& error) {
   unsigned char magic[8] = {};
   in.read(reinterpret_cast<char*>(magic), 8);
   const auto got = in.gcount();
-  if (got >= 2 && magic[0] == 'P' && magic[1] == '5') return Kind::kPgm;
-  if (got == 8 && png_sig_cmp(magic, 0, 8) == 0) return Kind::kPng;
+  if (got >= 2 && magic[0] == 'P' && magic[1] == '5') {
+    return Kind::kPgm;
+  }
+  if (got == 8 && png_sig_cmp(magic, 0, 8) == 0) {
+    return Kind::kPng;
+  }
   error = path + ": not a binary PGM (P5) or PNG image";
   return Kind::kUnknown;
 }
@@ -41,21 +45,29 @@ bool pnm_int(std::istream& in, int& out) {
   int c = in.get();
   while (true) {
     if (c == '#') {
-      while (c != '\n' && c != EOF) c = in.get();
+      while (c != '\n' && c != EOF) {
+        c = in.get();
+      }
     } else if (c != EOF && std::isspace(c) != 0) {
       c = in.get();
     } else {
       break;
     }
   }
-  if (c == EOF || std::isdigit(c) == 0) return false;
+  if (c == EOF || std::isdigit(c) == 0) {
+    return false;
+  }
   long v = 0;
   while (c != EOF && std::isdigit(c) != 0) {
     v = v * 10 + (c - '0');
-    if (v > 1'000'000) return false;
+    if (v > 1'000'000) {
+      return false;
+    }
     c = in.get();
   }
-  if (c == EOF || std::isspace(c) == 0) return false;  // exactly one whitespace ends the field
+  if (c == EOF || std::isspace(c) == 0) {
+    return false;  // exactly one whitespace ends the field
+  }
   out = static_cast<int>(v);
   return true;
 }
@@ -120,13 +132,17 @@ Result<ImageSize> read_gray_image_size(const std::string& path) {
   if (kind == Kind::kPgm) {
     std::ifstream in(path, std::ios::binary);
     Status s = pgm_header(in, path, size);
-    if (!s) return Result<ImageSize>::failure(s.error());
+    if (!s) {
+      return Result<ImageSize>::failure(s.error());
+    }
     return size;
   }
   if (kind == Kind::kPng) {
     PngImage png;
     Status s = png_begin(png, path);
-    if (!s) return Result<ImageSize>::failure(s.error());
+    if (!s) {
+      return Result<ImageSize>::failure(s.error());
+    }
     return ImageSize{static_cast<int>(png.image.width), static_cast<int>(png.image.height)};
   }
   return Result<ImageSize>::failure(error);
@@ -139,7 +155,9 @@ Status read_gray_image(const std::string& path, GrayImage& out) {
     std::ifstream in(path, std::ios::binary);
     ImageSize size;
     Status s = pgm_header(in, path, size);
-    if (!s) return s;
+    if (!s) {
+      return s;
+    }
     out.width = size.width;
     out.height = size.height;
     out.pixels.resize(static_cast<std::size_t>(size.width) * static_cast<std::size_t>(size.height));
@@ -153,7 +171,9 @@ Status read_gray_image(const std::string& path, GrayImage& out) {
   if (kind == Kind::kPng) {
     PngImage png;
     Status s = png_begin(png, path);
-    if (!s) return s;
+    if (!s) {
+      return s;
+    }
     png.image.format = PNG_FORMAT_GRAY;
     out.width = static_cast<int>(png.image.width);
     out.height = static_cast<int>(png.image.height);

@@ -39,12 +39,16 @@ std::string format_double(double v) {
   const bool fixed = a == 0.0 || (a >= 1e-12 && a < 1e15);
   auto [ptr, ec] = fixed ? std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::fixed)
                          : std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::scientific);
-  if (ec != std::errc()) return "nan";
+  if (ec != std::errc()) {
+    return "nan";
+  }
   std::string s(buf, ptr);
   if (fixed && s.find('.') == std::string::npos && s.find_first_of("ni") == std::string::npos) {
     s += ".0";
   }
-  if (!fixed && s.find('.') == std::string::npos) s.insert(s.find('e'), ".0");
+  if (!fixed && s.find('.') == std::string::npos) {
+    s.insert(s.find('e'), ".0");
+  }
   return s;
 }
 
@@ -52,10 +56,14 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
                                             std::vector<std::string>* warnings) {
   using R = Result<hal::Calibration>;
   auto doc = yaml::parse_string(text, file_name);
-  if (!doc.ok()) return R::failure(doc.error());
+  if (!doc.ok()) {
+    return R::failure(doc.error());
+  }
   yaml::Diagnostics diag;
   yaml::MappingReader root(*doc, "", diag);
-  if (doc->is_null()) return R::failure(file_name + ":1: empty document, expected sensors");
+  if (doc->is_null()) {
+    return R::failure(file_name + ":1: empty document, expected sensors");
+  }
   hal::Calibration c;
   for (const char* group : {"camera", "wheels", "gyro"}) {
     yaml::MappingReader m = root.required_mapping(group);
@@ -90,14 +98,18 @@ Result<hal::Calibration> parse_sensors_yaml(const std::string& text, const std::
   if (warnings != nullptr) {
     warnings->insert(warnings->end(), diag.warnings.begin(), diag.warnings.end());
   }
-  if (!diag.ok()) return R::failure(diag.error_text());
+  if (!diag.ok()) {
+    return R::failure(diag.error_text());
+  }
   return c;
 }
 
 Result<hal::Calibration> read_sensors_yaml(const std::string& path,
                                            std::vector<std::string>* warnings) {
   auto doc_text = read_bounded_file(path, kYamlFileLimit);
-  if (!doc_text.ok()) return Result<hal::Calibration>::failure(doc_text.error());
+  if (!doc_text.ok()) {
+    return Result<hal::Calibration>::failure(doc_text.error());
+  }
   return parse_sensors_yaml(*doc_text, path, warnings);
 }
 
@@ -112,7 +124,9 @@ std::string sensors_yaml_text(const hal::Calibration& c) {
   s += "  cx: " + format_double(cam.cx) + "\n";
   s += "  cy: " + format_double(cam.cy) + "\n";
   s += "  distortion: [";
-  for (std::size_t i = 0; i < 4; ++i) s += (i ? ", " : "") + format_double(cam.distortion[i]);
+  for (std::size_t i = 0; i < 4; ++i) {
+    s += (i ? ", " : "") + format_double(cam.distortion[i]);
+  }
   s += "]\n";
   s += "  T_body_cam:\n    [";
   for (std::size_t i = 0; i < 16; ++i) {
@@ -138,8 +152,12 @@ std::string sensors_yaml_text(const hal::Calibration& c) {
   s += "gyro:\n";
   s += "  noise_density: " + format_double(c.gyro.noise_density) + "\n";
   s += "  bias_instability: " + format_double(c.gyro.bias_instability) + "\n";
-  if (c.gyro.scale_error > 0.0) s += "  scale_error: " + format_double(c.gyro.scale_error) + "\n";
-  if (c.gyro.bias_walk > 0.0) s += "  bias_walk: " + format_double(c.gyro.bias_walk) + "\n";
+  if (c.gyro.scale_error > 0.0) {
+    s += "  scale_error: " + format_double(c.gyro.scale_error) + "\n";
+  }
+  if (c.gyro.bias_walk > 0.0) {
+    s += "  bias_walk: " + format_double(c.gyro.bias_walk) + "\n";
+  }
   return s;
 }
 

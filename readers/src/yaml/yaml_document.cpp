@@ -38,7 +38,9 @@ class EventReader {
                                  text.size());
   }
   ~EventReader() {
-    if (has_event_) yaml_event_delete(&event_);
+    if (has_event_) {
+      yaml_event_delete(&event_);
+    }
     yaml_parser_delete(&parser_);
   }
   EventReader(const EventReader&) = delete;
@@ -46,14 +48,18 @@ class EventReader {
 
   // Reads the next event into event(); false with error() set on a syntax error.
   bool next() {
-    if (has_event_) yaml_event_delete(&event_);
+    if (has_event_) {
+      yaml_event_delete(&event_);
+    }
     has_event_ = false;
     if (yaml_parser_parse(&parser_, &event_) == 0) {
       Location where{file_, static_cast<int>(parser_.problem_mark.line) + 1,
                      static_cast<int>(parser_.problem_mark.column) + 1};
       error_ = where.str() + ": YAML syntax error: " +
                (parser_.problem != nullptr ? parser_.problem : "unknown problem");
-      if (parser_.context != nullptr) error_ += std::string(" ") + parser_.context;
+      if (parser_.context != nullptr) {
+        error_ += std::string(" ") + parser_.context;
+      }
       return false;
     }
     has_event_ = true;
@@ -112,10 +118,16 @@ bool build(EventReader& reader, Node& out, int depth) {
       }
       out.kind = Node::Kind::kSequence;
       while (true) {
-        if (!reader.next()) return false;
-        if (reader.event().type == YAML_SEQUENCE_END_EVENT) return true;
+        if (!reader.next()) {
+          return false;
+        }
+        if (reader.event().type == YAML_SEQUENCE_END_EVENT) {
+          return true;
+        }
         Node item;
-        if (!build(reader, item, depth + 1)) return false;
+        if (!build(reader, item, depth + 1)) {
+          return false;
+        }
         out.items.push_back(std::move(item));
       }
     }
@@ -126,10 +138,16 @@ bool build(EventReader& reader, Node& out, int depth) {
       }
       out.kind = Node::Kind::kMapping;
       while (true) {
-        if (!reader.next()) return false;
-        if (reader.event().type == YAML_MAPPING_END_EVENT) return true;
+        if (!reader.next()) {
+          return false;
+        }
+        if (reader.event().type == YAML_MAPPING_END_EVENT) {
+          return true;
+        }
         Node key;
-        if (!build(reader, key, depth + 1)) return false;
+        if (!build(reader, key, depth + 1)) {
+          return false;
+        }
         if (!key.is_scalar()) {
           reader.fail_at_location(key.location, "mapping keys must be scalars");
           return false;
@@ -138,9 +156,13 @@ bool build(EventReader& reader, Node& out, int depth) {
           reader.fail_at_location(key.location, key.scalar + ": duplicate key");
           return false;
         }
-        if (!reader.next()) return false;
+        if (!reader.next()) {
+          return false;
+        }
         Node::Entry entry{key.scalar, key.location, Node{}};
-        if (!build(reader, entry.value, depth + 1)) return false;
+        if (!build(reader, entry.value, depth + 1)) {
+          return false;
+        }
         out.entries.push_back(std::move(entry));
       }
     }
@@ -150,19 +172,27 @@ bool build(EventReader& reader, Node& out, int depth) {
   }
 }
 
+// Drops a leading '+' (from_chars takes none); false when no digits can follow.
+bool drop_plus_sign(std::string_view& s) {
+  if (!s.empty() && s.front() == '+') {
+    s.remove_prefix(1);
+  }
+  return !s.empty();
+}
+
 bool parse_plain_double(std::string_view s, double& out) {
-  if (s.empty()) return false;
-  if (s.front() == '+') s.remove_prefix(1);
-  if (s.empty()) return false;
+  if (!drop_plus_sign(s)) {
+    return false;
+  }
   const char* end = s.data() + s.size();
   auto [ptr, ec] = std::from_chars(s.data(), end, out);
   return ec == std::errc() && ptr == end && std::isfinite(out);
 }
 
 bool parse_plain_int(std::string_view s, std::int64_t& out) {
-  if (s.empty()) return false;
-  if (s.front() == '+') s.remove_prefix(1);
-  if (s.empty()) return false;
+  if (!drop_plus_sign(s)) {
+    return false;
+  }
   const char* end = s.data() + s.size();
   auto [ptr, ec] = std::from_chars(s.data(), end, out);
   return ec == std::errc() && ptr == end;
@@ -176,7 +206,9 @@ std::string Location::str() const {
 
 const Node* Node::find(std::string_view key) const {
   for (const Entry& e : entries) {
-    if (e.key == key) return &e.value;
+    if (e.key == key) {
+      return &e.value;
+    }
   }
   return nullptr;
 }
@@ -202,10 +234,16 @@ Result<Node> parse_string(std::string_view text, std::string file_name) {
   root.location = Location{file, 1, 1};
   bool in_document = false;
   while (true) {
-    if (!reader.next()) return Result<Node>::failure(reader.error());
+    if (!reader.next()) {
+      return Result<Node>::failure(reader.error());
+    }
     const yaml_event_type_t type = reader.event().type;
-    if (type == YAML_STREAM_END_EVENT) break;
-    if (type == YAML_STREAM_START_EVENT) continue;
+    if (type == YAML_STREAM_END_EVENT) {
+      break;
+    }
+    if (type == YAML_STREAM_START_EVENT) {
+      continue;
+    }
     if (type == YAML_DOCUMENT_START_EVENT) {
       if (in_document) {
         reader.fail(
@@ -216,15 +254,21 @@ Result<Node> parse_string(std::string_view text, std::string file_name) {
       in_document = true;
       continue;
     }
-    if (type == YAML_DOCUMENT_END_EVENT) continue;
-    if (!build(reader, root, 0)) return Result<Node>::failure(reader.error());
+    if (type == YAML_DOCUMENT_END_EVENT) {
+      continue;
+    }
+    if (!build(reader, root, 0)) {
+      return Result<Node>::failure(reader.error());
+    }
   }
   return root;
 }
 
 Result<Node> parse_file(const std::string& path) {
   auto text = read_bounded_file(path, kYamlFileLimit);
-  if (!text.ok()) return Result<Node>::failure(text.error());
+  if (!text.ok()) {
+    return Result<Node>::failure(text.error());
+  }
   return parse_string(*text, path);
 }
 
@@ -249,8 +293,12 @@ Result<std::int64_t> as_int(const Node& node, std::string_view key) {
 Result<bool> as_bool(const Node& node, std::string_view key) {
   if (node.is_scalar() && !node.quoted) {
     const std::string& s = node.scalar;
-    if (s == "true" || s == "True" || s == "TRUE") return true;
-    if (s == "false" || s == "False" || s == "FALSE") return false;
+    if (s == "true" || s == "True" || s == "TRUE") {
+      return true;
+    }
+    if (s == "false" || s == "False" || s == "FALSE") {
+      return false;
+    }
   }
   return Result<bool>::failure(
       fail_at(node.location, key, "expected true or false, got " + node.describe()));
@@ -267,7 +315,9 @@ Result<std::string> as_string(const Node& node, std::string_view key) {
 std::string Diagnostics::error_text() const {
   std::string out;
   for (const std::string& e : errors) {
-    if (!out.empty()) out += '\n';
+    if (!out.empty()) {
+      out += '\n';
+    }
     out += e;
   }
   return out;
@@ -298,7 +348,9 @@ bool MappingReader::has(std::string_view key) const {
 const Node* MappingReader::lookup(std::string_view key, bool required) {
   used_.emplace_back(key);
   const Node* n = node_->find(key);
-  if (n != nullptr && n->is_null()) n = nullptr;
+  if (n != nullptr && n->is_null()) {
+    n = nullptr;
+  }
   if (n == nullptr && required) {
     error(node_->location.str() + ": " + path(key) + ": missing required key");
   }
@@ -316,7 +368,9 @@ const Node* MappingReader::required_node(std::string_view key) {
 template <typename T, typename Convert>
 T MappingReader::get(std::string_view key, bool required, T fallback, Convert convert) {
   const Node* n = lookup(key, required);
-  if (n == nullptr) return fallback;
+  if (n == nullptr) {
+    return fallback;
+  }
   auto r = convert(*n, path(key));
   if (!r.ok()) {
     error(r.error());
@@ -363,7 +417,9 @@ Result<std::vector<double>> as_doubles(const Node& node, std::string_view key,
   out.reserve(node.items.size());
   for (std::size_t i = 0; i < node.items.size(); ++i) {
     auto v = as_double(node.items[i], std::string(key) + "[" + std::to_string(i) + "]");
-    if (!v.ok()) return R::failure(v.error());
+    if (!v.ok()) {
+      return R::failure(v.error());
+    }
     out.push_back(*v);
   }
   return out;

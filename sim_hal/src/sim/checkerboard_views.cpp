@@ -24,7 +24,9 @@ bool board_in_view(const Scenario& sc, const Pose3& cb, double margin) {
   for (const double x : {-2.0 * s, (b.cols + 1) * s}) {
     for (const double y : {-2.0 * s, (b.rows + 1) * s}) {
       double u = 0.0, v = 0.0;
-      if (!project(sc.camera, cb.apply(Vec3{x, y, 0.0}), u, v)) return false;
+      if (!project(sc.camera, cb.apply(Vec3{x, y, 0.0}), u, v)) {
+        return false;
+      }
       if (u < margin || v < margin || u > sc.camera.width - 1.0 - margin ||
           v > sc.camera.height - 1.0 - margin) {
         return false;
@@ -51,11 +53,15 @@ Pose3 checkerboard_pose(const Scenario& sc, int index, Random& rng) {
   for (int attempt = 0; attempt < 60; ++attempt) {
     const Vec3 ray = pixel_ray(c, u, v);
     cb = Pose3{r, (depth / ray.z) * ray - r * centre};
-    if (board_in_view(sc, cb, 4.0)) break;
+    if (board_in_view(sc, cb, 4.0)) {
+      break;
+    }
     // Towards the image's centre, then farther away.
     u += 0.2 * (c.cx - u);
     v += 0.2 * (c.cy - v);
-    if (attempt % 10 == 9) depth *= 1.15;
+    if (attempt % 10 == 9) {
+      depth *= 1.15;
+    }
   }
   return cb;
 }
@@ -91,12 +97,16 @@ void CheckerboardRenderer::render(const Pose3& cb, Random& rng, readers::GrayIma
   const double plane = dot(normal, cb.position);
   auto radiance = [&](Vec3 ray) {
     const double along = dot(normal, ray);
-    if (std::abs(along) < 1e-12 || plane / along <= 0.0) return kBackground;
+    if (std::abs(along) < 1e-12 || plane / along <= 0.0) {
+      return kBackground;
+    }
     const Vec3 q = cb.apply_inverse((plane / along) * ray);
     if (q.x < -2.0 * s || q.y < -2.0 * s || q.x > (b.cols + 1) * s || q.y > (b.rows + 1) * s) {
       return kBackground;
     }
-    if (q.x < -s || q.y < -s || q.x > b.cols * s || q.y > b.rows * s) return kWhite;
+    if (q.x < -s || q.y < -s || q.x > b.cols * s || q.y > b.rows * s) {
+      return kWhite;
+    }
     const auto i = static_cast<long>(std::floor(q.x / s));
     const auto j = static_cast<long>(std::floor(q.y / s));
     return (i + j) % 2 == 0 ? kBlack : kWhite;
@@ -106,7 +116,9 @@ void CheckerboardRenderer::render(const Pose3& cb, Random& rng, readers::GrayIma
   for (int y = 0; y < camera_.height; ++y) {
     for (int x = 0; x < camera_.width; ++x) {
       double sum = 0.0;
-      for (int k = 0; k < kGrid * kGrid; ++k) sum += radiance(rays_[r++]);
+      for (int k = 0; k < kGrid * kGrid; ++k) {
+        sum += radiance(rays_[r++]);
+      }
       const double g = sum / (kGrid * kGrid) + rng.gaussian(camera_.image_noise);
       out.at(x, y) = static_cast<std::uint8_t>(std::clamp(std::lround(g), 0L, 255L));
     }

@@ -55,7 +55,9 @@ Renderer::Renderer(const Scenario& sc)
   const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   rays_.reserve(pixels);
   for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) rays_.push_back(pixel_ray(camera_, x, y));
+    for (int x = 0; x < w; ++x) {
+      rays_.push_back(pixel_ray(camera_, x, y));
+    }
   }
   // A pixel integrates the light over its area: kSamples rays on a rotated grid inside it (the
   // pixel centre at integer coordinates, as cx, cy), so that edges are not stair-stepped and a
@@ -101,7 +103,9 @@ double Renderer::photo_albedo(int surface, double a, double b, double footprint)
     constexpr double kTile = 1.0;
     return 0.2 + 0.45 * photos_.sample(kGravel, a / kTile, b / kTile, footprint / kTile);
   }
-  if (surface == 1) return 0.85;
+  if (surface == 1) {
+    return 0.85;
+  }
   if (surface >= 6 && surface < first_wall_surface_) {
     constexpr double kTile = 0.8;
     const std::uint64_t h = hash3(seed_, surface, 0, 3);
@@ -148,7 +152,9 @@ double Renderer::albedo(int surface, double a, double b) const {
     const double grain = 0.04 * std::sin(b * 140.0 + 3.0 * unit(hash3(seed_, row, plank, 97), 16));
     return shade + grain;
   }
-  if (surface == 1) return 0.85;
+  if (surface == 1) {
+    return 0.85;
+  }
   // Walls and furniture: coarse 0.5 m cells, each plain, a checker, random blocks or a poster.
   const bool furniture = surface >= 6 && surface < first_wall_surface_;
   const double coarse = furniture ? 0.3 : 0.5;
@@ -174,7 +180,9 @@ double Renderer::albedo(int surface, double a, double b) const {
       const double fa = a / coarse - static_cast<double>(ci),
                    fb = b / coarse - static_cast<double>(cj);
       const double m = 0.15 + 0.1 * unit(h, 32);
-      if (fa < m || fa > 1.0 - m || fb < m || fb > 1.0 - m) return base;
+      if (fa < m || fa > 1.0 - m || fb < m || fb > 1.0 - m) {
+        return base;
+      }
       const bool inner = fa > 0.4 && fa < 0.6 && fb > 0.3;
       return inner ? 0.9 : 0.08 + 0.2 * unit(h, 48);
     }
@@ -186,7 +194,9 @@ double Renderer::albedo(int surface, double a, double b) const {
 }
 
 int Renderer::surface_at(const Pose3& world_camera, int x, int y) const {
-  if (x < 0 || y < 0 || x >= camera_.width || y >= camera_.height) return -1;
+  if (x < 0 || y < 0 || x >= camera_.width || y >= camera_.height) {
+    return -1;
+  }
   const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(camera_.width) +
                         static_cast<std::size_t>(x);
   return cast(world_camera.position, world_camera.rotation * rays_[i]).surface;
@@ -195,14 +205,18 @@ int Renderer::surface_at(const Pose3& world_camera, int x, int y) const {
 Renderer::SurfacePoint Renderer::point_at(const Pose3& world_camera, double u, double v) const {
   const Vec3 dir = world_camera.rotation * pixel_ray(camera_, u, v);
   const Hit hit = cast(world_camera.position, dir);
-  if (hit.surface < 0) return {};
+  if (hit.surface < 0) {
+    return {};
+  }
   return {hit.surface, world_camera.position + hit.distance * dir, hit.distance};
 }
 
 Renderer::Hit Renderer::cast(Vec3 o, Vec3 d) const {
   Hit best{std::numeric_limits<double>::infinity(), -1, 0.0, 0.0, 1.0};
   auto consider = [&](double t, int surface, double a, double b, double cosi) {
-    if (t > 1e-6 && t < best.distance) best = Hit{t, surface, a, b, cosi};
+    if (t > 1e-6 && t < best.distance) {
+      best = Hit{t, surface, a, b, cosi};
+    }
   };
   // Room planes (the camera is inside the room).
   if (d.z < 0.0) {
@@ -240,7 +254,9 @@ Renderer::Hit Renderer::cast(Vec3 o, Vec3 d) const {
         continue;
       }
       double ta = (lo[i] - od[i]) / dd[i], tb = (hi[i] - od[i]) / dd[i];
-      if (ta > tb) std::swap(ta, tb);
+      if (ta > tb) {
+        std::swap(ta, tb);
+      }
       if (ta > t0) {
         t0 = ta;
         axis = i;
@@ -248,7 +264,9 @@ Renderer::Hit Renderer::cast(Vec3 o, Vec3 d) const {
       t1 = std::min(t1, tb);
       miss = t0 > t1;
     }
-    if (miss || axis < 0) continue;
+    if (miss || axis < 0) {
+      continue;
+    }
     const Vec3 p = o + t0 * d;
     // An interior wall's two faces (and its jambs) are two surfaces, each with its own pattern.
     const int surface =
@@ -256,9 +274,15 @@ Renderer::Hit Renderer::cast(Vec3 o, Vec3 d) const {
             ? 6 + static_cast<int>(k)
             : 2 * (6 + static_cast<int>(k)) - first_wall_surface_ + (dd[axis] < 0.0 ? 1 : 0);
     const double cosi = std::abs(dd[axis]);
-    if (axis == 0) consider(t0, surface, p.y, p.z, cosi);
-    if (axis == 1) consider(t0, surface, p.x, p.z, cosi);
-    if (axis == 2) consider(t0, surface, p.x, p.y, cosi);
+    if (axis == 0) {
+      consider(t0, surface, p.y, p.z, cosi);
+    }
+    if (axis == 1) {
+      consider(t0, surface, p.x, p.z, cosi);
+    }
+    if (axis == 2) {
+      consider(t0, surface, p.x, p.y, cosi);
+    }
   }
   return best;
 }
@@ -271,7 +295,9 @@ void Renderer::render(const std::vector<Pose3>& poses, double exposure, Random& 
                       readers::GrayImage& out, double gain) {
   const int w = camera_.width, h = camera_.height;
   const std::size_t n = rays_.size();
-  if (poses.empty()) return;
+  if (poses.empty()) {
+    return;
+  }
   const std::size_t pose_count = poses.size();
   const std::size_t per_pixel = std::max(pose_count, kSamples);
   const double focal = 0.5 * (camera_.fx + camera_.fy);
@@ -294,7 +320,9 @@ void Renderer::render(const std::vector<Pose3>& poses, double exposure, Random& 
       sum += v;
     }
     radiance_[i] = static_cast<float>(sum / static_cast<double>(per_pixel) * exposure * 255.0);
-    if (!vignette_.empty()) radiance_[i] *= vignette_[i];
+    if (!vignette_.empty()) {
+      radiance_[i] *= vignette_[i];
+    }
   }
   // A little blur: separable [1 b 1] / (2 + b) kernels, b from the scenario (0: none).
   if (blur_ > 0.0) {

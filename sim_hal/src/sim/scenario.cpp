@@ -32,13 +32,16 @@ void overlay(Node& base, const Node& top) {
         break;
       }
     }
-    if (!found) base.entries.push_back(e);
+    if (!found) {
+      base.entries.push_back(e);
+    }
   }
 }
 
 readers::Result<Node> load_tree(const std::string& name_or_path, int depth) {
-  if (depth > 8)
+  if (depth > 8) {
     return readers::Result<Node>::failure(name_or_path + ": base scenarios nest too deep");
+  }
   const std::string builtin = builtin_scenario_text(name_or_path);
   readers::Result<Node> doc =
       builtin.empty() ? readers::yaml::parse_file(name_or_path)
@@ -46,7 +49,9 @@ readers::Result<Node> load_tree(const std::string& name_or_path, int depth) {
   if (!doc.ok()) {
     if (builtin.empty() && !std::filesystem::exists(name_or_path)) {
       std::string names;
-      for (const auto& n : builtin_scenario_names()) names += " " + n;
+      for (const auto& n : builtin_scenario_names()) {
+        names += " " + n;
+      }
       return readers::Result<Node>::failure(
           name_or_path + ": neither a scenario file nor a built-in scenario (built in:" + names +
           ")");
@@ -54,15 +59,21 @@ readers::Result<Node> load_tree(const std::string& name_or_path, int depth) {
     return doc;
   }
   Node root = std::move(doc).value();
-  if (root.is_null()) root.kind = Node::Kind::kMapping;
+  if (root.is_null()) {
+    root.kind = Node::Kind::kMapping;
+  }
   if (!root.is_mapping()) {
     return readers::Result<Node>::failure(root.location.str() + ": a scenario must be a mapping");
   }
   if (const Node* base = root.find("base"); base != nullptr) {
     auto base_name = readers::yaml::as_string(*base, "base");
-    if (!base_name.ok()) return readers::Result<Node>::failure(base_name.error());
+    if (!base_name.ok()) {
+      return readers::Result<Node>::failure(base_name.error());
+    }
     auto base_tree = load_tree(*base_name, depth + 1);
-    if (!base_tree.ok()) return base_tree;
+    if (!base_tree.ok()) {
+      return base_tree;
+    }
     Node merged = std::move(base_tree).value();
     overlay(merged, root);
     return merged;
@@ -77,27 +88,35 @@ readers::Status apply_override(Node& root, const std::string& assignment) {
   }
   const std::string key = assignment.substr(0, eq);
   auto value = readers::yaml::parse_string(assignment.substr(eq + 1), "--set " + key);
-  if (!value.ok()) return readers::Status::failure(value.error());
+  if (!value.ok()) {
+    return readers::Status::failure(value.error());
+  }
   Node* node = &root;
   std::size_t start = 0;
   while (true) {
     const auto dot = key.find('.', start);
     const std::string part = key.substr(start, dot == std::string::npos ? dot : dot - start);
-    if (part.empty()) return readers::Status::failure("--set " + key + ": empty key part");
+    if (part.empty()) {
+      return readers::Status::failure("--set " + key + ": empty key part");
+    }
     if (!node->is_mapping()) {
       node->kind = Node::Kind::kMapping;
       node->entries.clear();
     }
     Node* child = nullptr;
     for (Node::Entry& e : node->entries) {
-      if (e.key == part) child = &e.value;
+      if (e.key == part) {
+        child = &e.value;
+      }
     }
     if (child == nullptr) {
       node->entries.push_back(Node::Entry{part, value->location, Node{}});
       child = &node->entries.back().value;
     }
     node = child;
-    if (dot == std::string::npos) break;
+    if (dot == std::string::npos) {
+      break;
+    }
     start = dot + 1;
   }
   *node = std::move(value).value();
@@ -111,11 +130,15 @@ Vec3 read_vec3(MappingReader& r, const char* key, Vec3 fallback) {
 
 // world.seed, world.furniture, world.walls and world.moved.
 void read_world_lists(MappingReader& w, Scenario& sc, readers::yaml::Diagnostics& diag) {
-  if (w.has("seed")) sc.world.seed = static_cast<std::uint64_t>(w.optional_int("seed", 0));
+  if (w.has("seed")) {
+    sc.world.seed = static_cast<std::uint64_t>(w.optional_int("seed", 0));
+  }
   for (const bool furniture : {true, false}) {
     const std::string key = furniture ? "furniture" : "walls";
     const Node* f = w.node(key);
-    if (f == nullptr) continue;
+    if (f == nullptr) {
+      continue;
+    }
     if (!f->is_sequence()) {
       diag.errors.push_back(f->location.str() + ": world." + key + ": expected a sequence");
       continue;
@@ -194,15 +217,21 @@ bool segment_hits_box(Vec3 a, Vec3 b, const Box& box) {
   const double hi[3] = {box.max.x, box.max.y, box.max.z};
   for (int i = 0; i < 3; ++i) {
     if (std::abs(dd[i]) < 1e-15) {
-      if (ad[i] < lo[i] || ad[i] > hi[i]) return false;
+      if (ad[i] < lo[i] || ad[i] > hi[i]) {
+        return false;
+      }
       continue;
     }
     double t0 = (lo[i] - ad[i]) / dd[i];
     double t1 = (hi[i] - ad[i]) / dd[i];
-    if (t0 > t1) std::swap(t0, t1);
+    if (t0 > t1) {
+      std::swap(t0, t1);
+    }
     s0 = std::max(s0, t0);
     s1 = std::min(s1, t1);
-    if (s0 > s1) return false;
+    if (s0 > s1) {
+      return false;
+    }
   }
   return true;
 }
@@ -223,11 +252,15 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
                                         const std::vector<std::string>& overrides) {
   using R = readers::Result<Scenario>;
   auto tree = load_tree(name_or_path, 0);
-  if (!tree.ok()) return R::failure(tree.error());
+  if (!tree.ok()) {
+    return R::failure(tree.error());
+  }
   Node root = std::move(tree).value();
   for (const std::string& o : overrides) {
     readers::Status s = apply_override(root, o);
-    if (!s) return R::failure(s.error());
+    if (!s) {
+      return R::failure(s.error());
+    }
   }
   readers::yaml::Diagnostics diag;
   MappingReader r(root, "", diag);
@@ -260,12 +293,16 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
   r.report_unknown_keys();
   // In a scenario a misspelt key would silently keep a default: unknown keys are errors.
   for (std::string w : diag.warnings) {
-    if (const auto at = w.find(", ignored"); at != std::string::npos) w.erase(at, 9);
+    if (const auto at = w.find(", ignored"); at != std::string::npos) {
+      w.erase(at, 9);
+    }
     diag.errors.push_back(w);
   }
   // What the table's ranges cannot say: keys that depend on each other or on the path's type.
   auto positive = [&](double v, const char* key) {
-    if (!(v > 0.0)) diag.errors.push_back(std::string(key) + ": must be positive");
+    if (!(v > 0.0)) {
+      diag.errors.push_back(std::string(key) + ": must be positive");
+    }
   };
   auto within = [&](double v, double lo, double hi, const char* key) {
     if (!(v >= lo && v <= hi)) {
@@ -283,9 +320,13 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
     positive(sc.path.spin_turns, "path.spin_turns");
     positive(sc.path.settle_s, "path.settle_s");
   }
-  if (sc.path.type == "standstill") positive(sc.duration_s, "duration_s (a standstill needs it)");
+  if (sc.path.type == "standstill") {
+    positive(sc.duration_s, "duration_s (a standstill needs it)");
+  }
   if (sc.path.type == "waypoints") {
-    for (std::string& e : waypoint_path_errors(sc)) diag.errors.push_back(std::move(e));
+    for (std::string& e : waypoint_path_errors(sc)) {
+      diag.errors.push_back(std::move(e));
+    }
   }
   if (sc.path.type == "wander") {
     positive(sc.duration_s, "duration_s (a wander path needs it)");
@@ -300,7 +341,9 @@ readers::Result<Scenario> load_scenario(const std::string& name_or_path,
   within(sc.world.size.z, 0.0, 100.0, "world.size[2]");
   within(sc.landmarks.min_height, 0.0, sc.landmarks.max_height, "landmarks.min_height");
   within(sc.path.max_speed, sc.path.min_speed, 5.0, "path.max_speed");
-  if (!diag.ok()) return R::failure(diag.error_text());
+  if (!diag.ok()) {
+    return R::failure(diag.error_text());
+  }
   return sc;
 }
 

@@ -22,18 +22,26 @@ std::array<double, 4> quaternion_wxyz(const Mat3& r) {
     q = {(m[1][0] - m[0][1]) / s, (m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, 0.25 * s};
   }
   if (q[0] < 0.0) {
-    for (double& v : q) v = -v;
+    for (double& v : q) {
+      v = -v;
+    }
   }
   const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  for (double& v : q) v /= n;
+  for (double& v : q) {
+    v /= n;
+  }
   return q;
 }
 
 double wrap_angle(double a) {
   constexpr double kTwoPi = 2.0 * std::numbers::pi;
   a = std::fmod(a, kTwoPi);
-  if (a <= -std::numbers::pi) a += kTwoPi;
-  if (a > std::numbers::pi) a -= kTwoPi;
+  if (a <= -std::numbers::pi) {
+    a += kTwoPi;
+  }
+  if (a > std::numbers::pi) {
+    a -= kTwoPi;
+  }
   return a;
 }
 

@@ -61,7 +61,9 @@ readers::Status write_sim_truth(const Scenario& sc, const std::string& path) {
       << "  distortion: [" << format_double(c.distortion[0]) << ", "
       << format_double(c.distortion[1]) << ", " << format_double(c.distortion[2]) << ", "
       << format_double(c.distortion[3]) << "]\n";
-  if (!out) return readers::Status::failure(path + ": write error");
+  if (!out) {
+    return readers::Status::failure(path + ": write error");
+  }
   return {};
 }
 
@@ -85,7 +87,9 @@ hal::Calibration calibration_of(const Scenario& sc) {
   cal.camera.distortion = c.distortion;
   const Pose3 bc = body_to_camera(c);
   for (std::size_t i = 0; i < 3; ++i) {
-    for (std::size_t j = 0; j < 3; ++j) cal.camera.T_body_cam[4 * i + j] = bc.rotation.m[i][j];
+    for (std::size_t j = 0; j < 3; ++j) {
+      cal.camera.T_body_cam[4 * i + j] = bc.rotation.m[i][j];
+    }
   }
   cal.camera.T_body_cam[3] = bc.position.x;
   cal.camera.T_body_cam[7] = bc.position.y;
@@ -112,7 +116,9 @@ hal::Calibration calibration_of(const Scenario& sc) {
 }
 
 bool project(const Scenario::Camera& c, Vec3 p, double& u, double& v) {
-  if (p.z <= 1e-6) return false;
+  if (p.z <= 1e-6) {
+    return false;
+  }
   const double x = p.x / p.z, y = p.y / p.z;
   const double r2 = x * x + y * y;
   const auto& d = c.distortion;
@@ -130,14 +136,26 @@ std::vector<Visible> visible_landmarks(const Scenario::Camera& c, const World& w
   for (const Landmark& l : landmarks) {
     const Vec3 to_cam = wc.position - l.position;
     const double range = norm(to_cam);
-    if (range < c.min_range || range > c.max_range) continue;
-    if (norm(l.normal) > 0.0 && dot(l.normal, to_cam) < c.min_facing_cos * range) continue;
+    if (range < c.min_range || range > c.max_range) {
+      continue;
+    }
+    if (norm(l.normal) > 0.0 && dot(l.normal, to_cam) < c.min_facing_cos * range) {
+      continue;
+    }
     const Vec3 pc = wc.apply_inverse(l.position);
-    if (pc.z < 0.2 * range) continue;  // far outside the field of view: distortion is invalid
+    if (pc.z < 0.2 * range) {
+      continue;  // far outside the field of view: distortion is invalid
+    }
     double u = 0.0, v = 0.0;
-    if (!project(c, pc, u, v)) continue;
-    if (u < 0.0 || v < 0.0 || u > c.width - 1.0 || v > c.height - 1.0) continue;
-    if (world.occluded(wc.position, l.position)) continue;
+    if (!project(c, pc, u, v)) {
+      continue;
+    }
+    if (u < 0.0 || v < 0.0 || u > c.width - 1.0 || v > c.height - 1.0) {
+      continue;
+    }
+    if (world.occluded(wc.position, l.position)) {
+      continue;
+    }
     out.push_back(Visible{&l, u, v, range});
   }
   return out;
@@ -153,7 +171,9 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
   const double true_wheel_base = sc.robot.wheel_base * (1.0 + sc.encoders.wheel_base_error);
   const Trajectory traj(plan.primitives, plan.start, true_wheel_base);
   const double duration = traj.duration();
-  if (duration <= 0.0) return R::failure(sc.name + ": the path is empty");
+  if (duration <= 0.0) {
+    return R::failure(sc.name + ": the path is empty");
+  }
   if (duration > 24.0 * 3600.0) {
     return R::failure(sc.name + ": the path takes " + std::to_string(std::lround(duration)) +
                       " s, more than a day: set duration_s, or a smaller world.size or path");
@@ -179,14 +199,18 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
       writer.open(out_dir, calibration_of(sc),
                   sc.camera.image_format == "pgm" ? DatasetWriter::ImageFormat::kPgm
                                                   : DatasetWriter::ImageFormat::kPng);
-  if (!s) return R::failure(s.error());
+  if (!s) {
+    return R::failure(s.error());
+  }
   SimulationSummary sum;
   sum.duration_s = duration;
   sum.path_length_m = traj.length();
   sum.landmarks = static_cast<int>(world.landmarks().size());
   const double t0 = sc.start_time_s;
   auto report = [&](double f) {
-    if (progress) progress(f);
+    if (progress) {
+      progress(f);
+    }
   };
 
   // Ground truth.
@@ -194,7 +218,9 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
     const double dt = 1.0 / sc.groundtruth.rate_hz;
     for (long k = 0;; ++k) {
       const double t = static_cast<double>(k) * dt;
-      if (t > duration) break;
+      if (t > duration) {
+        break;
+      }
       const TrueState st = traj.at(t);
       const Pose3 b = Trajectory::body_pose(st);
       writer.add_groundtruth(readers::GroundTruthPose{to_ns(t0 + t),
@@ -218,7 +244,9 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
     double prev_yaw = traj.at(0.0).yaw;
     for (long k = 1;; ++k) {
       const double t = static_cast<double>(k) * dt;
-      if (t > duration) break;
+      if (t > duration) {
+        break;
+      }
       const double yaw = traj.at(t).yaw;
       const double rate = (yaw - prev_yaw) / dt;
       prev_yaw = yaw;
@@ -243,7 +271,9 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
     int slip_wheel = 0;
     for (long k = 0;; ++k) {
       const double t = phase + static_cast<double>(k) * dt;
-      if (t > duration) break;
+      if (t > duration) {
+        break;
+      }
       const TrueState st = traj.at(t);
       double dl = st.left_m - prev.left_m;
       double dr = st.right_m - prev.right_m;
@@ -256,8 +286,12 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
       const bool slipping = t <= slip_until;
       dl *= (1.0 + e.scale_error_left) * (1.0 + rng.gaussian(e.distance_noise));
       dr *= (1.0 + e.scale_error_right) * (1.0 + rng.gaussian(e.distance_noise));
-      if (slipping && slip_wheel == 0) dl *= 1.0 + e.slip_fraction;
-      if (slipping && slip_wheel == 1) dr *= 1.0 + e.slip_fraction;
+      if (slipping && slip_wheel == 0) {
+        dl *= 1.0 + e.slip_fraction;
+      }
+      if (slipping && slip_wheel == 1) {
+        dr *= 1.0 + e.slip_fraction;
+      }
       meas_l += dl;
       meas_r += dr;
       hal::EncoderSample sample;
@@ -283,9 +317,13 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
     const bool checkerboard = c.mode == "checkerboard";
     const bool write_images = c.mode == "images" || c.mode == "both" || checkerboard;
     std::unique_ptr<Renderer> renderer;
-    if (write_images && !checkerboard) renderer = std::make_unique<Renderer>(sc);
+    if (write_images && !checkerboard) {
+      renderer = std::make_unique<Renderer>(sc);
+    }
     std::unique_ptr<CheckerboardRenderer> board_renderer;
-    if (checkerboard) board_renderer = std::make_unique<CheckerboardRenderer>(sc);
+    if (checkerboard) {
+      board_renderer = std::make_unique<CheckerboardRenderer>(sc);
+    }
     readers::GrayImage image;
     FrameExposure frame_exposure(c, body_to_camera(c));
     const double dt = 1.0 / c.rate_hz;
@@ -300,7 +338,9 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
     std::vector<Landmark> all;
     for (long k = 0;; ++k) {
       const double t = phase + static_cast<double>(k) * dt;
-      if (t > duration) break;
+      if (t > duration) {
+        break;
+      }
       const TrueState st = traj.at(t);
       const Pose3 wc = compose(Trajectory::body_pose(st), bc);
       all = world.landmarks();
@@ -328,12 +368,16 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
           f.v_px = std::clamp(vl.v + rng.gaussian(c.pixel_noise), 0.0, c.height - 1.0);
         }
         obs.push_back(f);
-        if (vl.landmark->id < kPersonTrackBase) ++static_in_view;
+        if (vl.landmark->id < kPersonTrackBase) {
+          ++static_in_view;
+        }
       }
       hal::TimeNs stamp = to_ns(t0 + t + (c.jitter_s > 0.0 ? rng.gaussian(c.jitter_s) : 0.0));
       stamp = std::max(stamp, last_stamp + 1);
       last_stamp = stamp;
-      if (write_features) writer.add_features(stamp, obs.data(), static_cast<int>(obs.size()));
+      if (write_features) {
+        writer.add_features(stamp, obs.data(), static_cast<int>(obs.size()));
+      }
       if (write_images) {
         if (checkerboard) {
           const Pose3 board = sc.checkerboard.on_floor
@@ -344,18 +388,28 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
           frame_exposure.render(*renderer, traj, t, image_rng, image);
         }
         s = writer.add_image(stamp, image.view());
-        if (!s) return R::failure(s.error());
+        if (!s) {
+          return R::failure(s.error());
+        }
       }
       ++sum.frames;
-      if (obs.empty()) ++sum.frames_without_features;
+      if (obs.empty()) {
+        ++sum.frames_without_features;
+      }
       total += static_cast<double>(obs.size());
-      if (static_in_view >= 5 && static_in_view <= 10) ++good;
-      if (static_in_view >= 5) ++enough;
+      if (static_in_view >= 5 && static_in_view <= 10) {
+        ++good;
+      }
+      if (static_in_view >= 5) {
+        ++enough;
+      }
       if (static_in_view > 0) {
         sum.longest_gap_s = std::max(sum.longest_gap_s, t - last_seen);
         last_seen = t;
       }
-      if (k % 64 == 0) report(0.5 + 0.5 * t / duration);
+      if (k % 64 == 0) {
+        report(0.5 + 0.5 * t / duration);
+      }
     }
     sum.longest_gap_s = std::max(sum.longest_gap_s, duration - last_seen);
     if (renderer) {
@@ -381,12 +435,18 @@ readers::Result<SimulationSummary> simulate(const Scenario& sc, const std::strin
          << readers::format_double(l.position.y) << ',' << readers::format_double(l.position.z)
          << '\n';
     }
-    if (!lm) return R::failure(out_dir + "/sim_landmarks.csv: write error");
+    if (!lm) {
+      return R::failure(out_dir + "/sim_landmarks.csv: write error");
+    }
   }
   s = write_sim_truth(sc, (std::filesystem::path(out_dir) / "sim_truth.yaml").string());
-  if (!s) return R::failure(s.error());
+  if (!s) {
+    return R::failure(s.error());
+  }
   s = writer.close();
-  if (!s) return R::failure(s.error());
+  if (!s) {
+    return R::failure(s.error());
+  }
   report(1.0);
   return sum;
 }

@@ -25,7 +25,9 @@ void drive_to(std::vector<Primitive>& out, PlanarPose& pose, double x, double y,
   const double dx = x - pose.x;
   const double dy = y - pose.y;
   const double dist = std::hypot(dx, dy);
-  if (dist < 1e-9) return;
+  if (dist < 1e-9) {
+    return;
+  }
   const double turn = wrap_angle(std::atan2(dy, dx) - pose.yaw);
   if (std::abs(turn) > 1e-9) {
     out.push_back(motion(std::abs(turn) / turn_rate, 0.0, std::copysign(turn_rate, turn)));
@@ -59,8 +61,12 @@ std::vector<Primitive> boustrophedon(const Scenario& sc, PlanarPose& start) {
       const int lane = forward_first ? k : lanes - 1 - k;
       const double y = y0 + lane * p.lane_spacing;
       const bool east = (k % 2 == 0);
-      if (k == 0) drive_to(out, pose, east ? x0 : x1, y, p.speed, p.turn_rate);
-      if (k > 0) drive_to(out, pose, pose.x, y, p.speed, p.turn_rate);
+      if (k == 0) {
+        drive_to(out, pose, east ? x0 : x1, y, p.speed, p.turn_rate);
+      }
+      if (k > 0) {
+        drive_to(out, pose, pose.x, y, p.speed, p.turn_rate);
+      }
       drive_to(out, pose, east ? x1 : x0, y, p.speed, p.turn_rate);
     }
   }
@@ -71,7 +77,9 @@ std::vector<Primitive> boustrophedon(const Scenario& sc, PlanarPose& start) {
 std::vector<Primitive> waypoints(const Scenario& sc, PlanarPose& start) {
   const auto& p = sc.path;
   std::vector<Primitive> out;
-  if (p.waypoints.empty()) return out;
+  if (p.waypoints.empty()) {
+    return out;
+  }
   const auto& w0 = p.waypoints.front();
   start = PlanarPose{w0[0], w0[1], 0.0};
   for (const auto& w : p.waypoints) {
@@ -81,7 +89,9 @@ std::vector<Primitive> waypoints(const Scenario& sc, PlanarPose& start) {
     }
   }
   PlanarPose pose = start;
-  for (const auto& w : p.waypoints) drive_to(out, pose, w[0], w[1], p.speed, p.turn_rate);
+  for (const auto& w : p.waypoints) {
+    drive_to(out, pose, w[0], w[1], p.speed, p.turn_rate);
+  }
   return out;
 }
 
@@ -103,10 +113,18 @@ double distance_to_border(double x, double y, double yaw, double lox, double loy
                           double hiy) {
   const double c = std::cos(yaw), s = std::sin(yaw);
   double d = 1e9;
-  if (c > 1e-9) d = std::min(d, (hix - x) / c);
-  if (c < -1e-9) d = std::min(d, (lox - x) / c);
-  if (s > 1e-9) d = std::min(d, (hiy - y) / s);
-  if (s < -1e-9) d = std::min(d, (loy - y) / s);
+  if (c > 1e-9) {
+    d = std::min(d, (hix - x) / c);
+  }
+  if (c < -1e-9) {
+    d = std::min(d, (lox - x) / c);
+  }
+  if (s > 1e-9) {
+    d = std::min(d, (hiy - y) / s);
+  }
+  if (s < -1e-9) {
+    d = std::min(d, (loy - y) / s);
+  }
   return std::max(0.0, d);
 }
 
@@ -129,7 +147,9 @@ std::vector<Primitive> wander(const Scenario& sc, Random& rng, PlanarPose& start
     // Turn (towards the goal, roughly, or at random), then run as far as the wanted length or the
     // border allows.
     double turn = rng.uniform(p.min_turn_deg, p.max_turn_deg) * kPi / 180.0;
-    if (rng.chance(0.5)) turn = -turn;
+    if (rng.chance(0.5)) {
+      turn = -turn;
+    }
     if (rng.chance(p.goal_bias)) {
       const double to_goal = std::atan2(goal_y - pose.y, goal_x - pose.x);
       turn = wrap_angle(to_goal + rng.gaussian(0.5) - pose.yaw);
@@ -172,7 +192,9 @@ std::size_t split_at(std::vector<Primitive>& prims, double t) {
   double t0 = 0.0;
   for (std::size_t i = 0; i < prims.size(); ++i) {
     const double t1 = t0 + prims[i].duration;
-    if (t <= t0 + 1e-12) return i;
+    if (t <= t0 + 1e-12) {
+      return i;
+    }
     if (t < t1 - 1e-12) {
       Primitive first = prims[i];
       Primitive second = prims[i];
@@ -192,7 +214,9 @@ PlanarPose pose_at(const std::vector<Primitive>& prims, const PlanarPose& start,
   double t0 = 0.0;
   for (const Primitive& q : prims) {
     const double d = std::min(q.duration, t - t0);
-    if (d <= 0.0) break;
+    if (d <= 0.0) {
+      break;
+    }
     p = q.lift ? q.lift_to : integrate(p, q.v, q.w, d);
     t0 += q.duration;
   }
@@ -216,7 +240,9 @@ Trajectory::Trajectory(const std::vector<Primitive>& primitives, const PlanarPos
   PlanarPose pose = start;
   double t = 0.0, left = 0.0, right = 0.0;
   for (const Primitive& p : primitives) {
-    if (p.duration <= 0.0) continue;
+    if (p.duration <= 0.0) {
+      continue;
+    }
     segments_.push_back(Segment{t, p, pose, left, right});
     if (p.lift) {
       pose = p.lift_to;
@@ -233,7 +259,9 @@ Trajectory::Trajectory(const std::vector<Primitive>& primitives, const PlanarPos
 
 TrueState Trajectory::at(double t) const {
   TrueState s;
-  if (segments_.empty()) return s;
+  if (segments_.empty()) {
+    return s;
+  }
   t = std::clamp(t, 0.0, duration_);
   auto it = std::upper_bound(segments_.begin(), segments_.end(), t,
                              [](double v, const Segment& seg) { return v < seg.t0; });
@@ -261,7 +289,9 @@ TrueState Trajectory::at(double t) const {
 std::vector<std::pair<double, double>> Trajectory::lift_intervals() const {
   std::vector<std::pair<double, double>> out;
   for (const Segment& s : segments_) {
-    if (s.p.lift) out.emplace_back(s.t0, s.t0 + s.p.duration);
+    if (s.p.lift) {
+      out.emplace_back(s.t0, s.t0 + s.p.duration);
+    }
   }
   return out;
 }
@@ -306,7 +336,9 @@ PathPlan plan_path(const Scenario& sc, Random& rng) {
   std::sort(stops.begin(), stops.end(),
             [](const StopSpec& x, const StopSpec& y) { return x.at_s > y.at_s; });
   for (const StopSpec& s : stops) {
-    if (s.duration_s <= 0.0) continue;
+    if (s.duration_s <= 0.0) {
+      continue;
+    }
     const std::size_t i = split_at(prims, s.at_s);
     prims.insert(prims.begin() + static_cast<std::ptrdiff_t>(i), motion(s.duration_s, 0.0, 0.0));
   }

@@ -43,12 +43,16 @@ std::vector<std::string> waypoint_path_errors(const Scenario& sc) {
       errors.emplace_back(buf);
     }
   }
-  if (!errors.empty()) return errors;
+  if (!errors.empty()) {
+    return errors;
+  }
   const std::vector<Box> boxes = solid_boxes(sc.world);
   const std::size_t furniture = sc.world.furniture.size();
   for (std::size_t i = 0; i + 1 < w.size(); ++i) {
     for (std::size_t k = 0; k < boxes.size(); ++k) {
-      if (!segment_crosses_footprint(w[i], w[i + 1], boxes[k], r)) continue;
+      if (!segment_crosses_footprint(w[i], w[i + 1], boxes[k], r)) {
+        continue;
+      }
       const std::string box = k < furniture ? "world.furniture[" + std::to_string(k) + "]"
                                             : "world.walls[" + std::to_string(k - furniture) + "]";
       char buf[96];

@@ -17,17 +17,23 @@ bool inside(const Box& b, Vec3 p, double eps) {
 bool blocked(const std::vector<Box>& boxes, Vec3 a, Vec3 b) {
   const Vec3 d = b - a;
   const double len = norm(d);
-  if (len < 0.02) return false;
+  if (len < 0.02) {
+    return false;
+  }
   const Vec3 end = a + ((len - 0.01) / len) * d;  // stop short of b's own surface
   for (const Box& box : boxes) {
-    if (segment_hits_box(a, end, box)) return true;
+    if (segment_hits_box(a, end, box)) {
+      return true;
+    }
   }
   return false;
 }
 
 bool buried(const std::vector<Box>& boxes, Vec3 p) {
   for (const Box& b : boxes) {
-    if (inside(b, p, 0.0)) return true;
+    if (inside(b, p, 0.0)) {
+      return true;
+    }
   }
   return false;
 }
@@ -55,7 +61,9 @@ std::optional<Landmark> on_interior_wall(const std::vector<Box>& walls, double l
       total += faces.back().area;
     }
   }
-  if (!(total > 0.0)) return std::nullopt;
+  if (!(total > 0.0)) {
+    return std::nullopt;
+  }
   double pick = rng.uniform(0.0, total);
   const Face* f = &faces.back();
   for (const Face& face : faces) {
@@ -167,7 +175,9 @@ World::World(const Scenario& sc, Random& rng) : person_(sc.person) {
           break;
       }
       const Vec3 out = l.position + 0.05 * l.normal;
-      if (!in_world(size, out) || buried(boxes_, out)) continue;
+      if (!in_world(size, out) || buried(boxes_, out)) {
+        continue;
+      }
       l.id = next_id++;
       landmarks_.push_back(l);
       on_box.push_back(static_cast<int>(k));
@@ -190,10 +200,14 @@ World::World(const Scenario& sc, Random& rng) : person_(sc.person) {
     const double hi = std::min(lm.max_height, size.z);
     while (placed < lm.on_interior_walls && attempts++ < 100 * lm.on_interior_walls + 100) {
       const auto drawn = on_interior_wall(walls, lm.min_height, hi, rng);
-      if (!drawn) break;
+      if (!drawn) {
+        break;
+      }
       Landmark l = *drawn;
       const Vec3 out = l.position + 0.05 * l.normal;
-      if (!in_world(size, out) || buried(boxes_, out)) continue;
+      if (!in_world(size, out) || buried(boxes_, out)) {
+        continue;
+      }
       l.id = next_id++;
       landmarks_.push_back(l);
       on_box.push_back(-1);
@@ -212,12 +226,16 @@ World::World(const Scenario& sc, Random& rng) : person_(sc.person) {
 
 std::vector<Landmark> World::person_points(double t) const {
   std::vector<Landmark> out;
-  if (!person_.enabled || person_.points <= 0) return out;
+  if (!person_.enabled || person_.points <= 0) {
+    return out;
+  }
   // Walks from `from` to `to` and back, forever.
   const Vec3 d = person_.to - person_.from;
   const double len = std::max(1e-6, std::hypot(d.x, d.y));
   double s = std::fmod(t * person_.speed, 2.0 * len);
-  if (s > len) s = 2.0 * len - s;
+  if (s > len) {
+    s = 2.0 * len - s;
+  }
   const Vec3 c = person_.from + (s / len) * d;
   for (int i = 0; i < person_.points; ++i) {
     // Points spread over the body in a fixed pattern (golden angle around, even in height).

@@ -54,8 +54,8 @@ Eigen::Vector2d CameraModel::distort(const Eigen::Vector2d& n, Eigen::Matrix2d* 
   const double y = n.y();
   const double r2 = x * x + y * y;
   const double radial = 1.0 + k1_ * r2 + k2_ * r2 * r2;
-  const Eigen::Vector2d d(x * radial + 2.0 * p1_ * x * y + p2_ * (r2 + 2.0 * x * x),
-                          y * radial + p1_ * (r2 + 2.0 * y * y) + 2.0 * p2_ * x * y);
+  Eigen::Vector2d d(x * radial + 2.0 * p1_ * x * y + p2_ * (r2 + 2.0 * x * x),
+                    y * radial + p1_ * (r2 + 2.0 * y * y) + 2.0 * p2_ * x * y);
   if (J != nullptr) {
     const double dradial_dr2 = k1_ + 2.0 * k2_ * r2;
     (*J)(0, 0) = radial + x * dradial_dr2 * 2.0 * x + 2.0 * p1_ * y + 6.0 * p2_ * x;

@@ -78,8 +78,8 @@ Ekf::Ekf(const hal::Calibration& calibration, const EkfConfig& config)
   nu_.setZero(kMaxMeasDim);
   S_.setZero(kMaxMeasDim, kMaxMeasDim);
   Sinv_.setZero(kMaxMeasDim, kMaxMeasDim);
-  W_.setZero(pool_dim, 2 * kMaxMeasDim);
-  V_.setZero(2 * kMaxMeasDim, pool_dim);
+  W_.setZero(pool_dim, Eigen::Index{2} * kMaxMeasDim);
+  V_.setZero(Eigen::Index{2} * kMaxMeasDim, pool_dim);
   PHt_.setZero(pool_dim, kMaxMeasDim);
   cross_.setZero(6, kMaxStateDim);
   new_rows_.setZero(3, kMaxStateDim);
@@ -486,7 +486,7 @@ const UpdateStatus& Ekf::update(const Observation* obs, int count) {
     Hl_[mi] = Hl;
     R_[mi] = R;
     young_[mi] = young(o.slot);
-    nu_.segment<3>(3 * m) = st.innovation;
+    nu_.segment<3>(3 * Eigen::Index{m}) = st.innovation;
     ++m;
   }
   x_.head<6>() = prior_pose;
@@ -591,11 +591,11 @@ void Ekf::run_update(std::int64_t budget) {
   std::int64_t spent = 0;
   while (phase_ != UpdatePhase::kNone && !over(spent)) {
     const std::int64_t n = n_;
-    const std::int64_t k = 3 * m_;
+    const std::int64_t k = 3 * std::int64_t{m_};
     switch (phase_) {
       case UpdatePhase::kGain:
         begin_gain();
-        spent += 2 * (27 * active_dim_ * m_ + 3 * k * k * k);
+        spent += 2 * (27 * std::int64_t{active_dim_} * m_ + 3 * k * k * k);
         break;
       case UpdatePhase::kGainRows: {
         int row = cursor_;
@@ -638,7 +638,7 @@ void Ekf::run_update(std::int64_t budget) {
           if (config_.invariant_reset) {
             begin_invariant_reset(n_, dx_.head(n_));
             invariant_reset_columns(0, kPose);
-            spent += kPose * 3 * n;
+            spent += kPose * (3 * n);
           }
           cursor_ = kPose;
           phase_ = UpdatePhase::kCovariance;
@@ -682,16 +682,16 @@ void Ekf::begin_gain() {
   }
   // PHt = P H^T, H sparse: pose columns and one landmark's three columns per observation.
   auto PHt = PHt_.topLeftCorner(n, k);
-  for (int j = 0; j < m; ++j) {
+  for (Eigen::Index j = 0; j < m; ++j) {
     const auto js = static_cast<std::size_t>(j);
     PHt.middleCols<3>(3 * j).noalias() = P_.block(0, 0, n, 6).lazyProduct(Hp_[js].transpose());
     PHt.middleCols<3>(3 * j).noalias() +=
         P_.block(0, lms_[js], n, 3).lazyProduct(Hl_[js].transpose());
   }
   S_.resize(k, k);
-  for (int i = 0; i < m; ++i) {
+  for (Eigen::Index i = 0; i < m; ++i) {
     const auto is = static_cast<std::size_t>(i);
-    for (int j = 0; j < m; ++j) {
+    for (Eigen::Index j = 0; j < m; ++j) {
       S_.block<3, 3>(3 * i, 3 * j) =
           Hp_[is] * PHt.block<6, 3>(0, 3 * j) + Hl_[is] * PHt.block<3, 3>(lms_[is], 3 * j);
     }
@@ -731,7 +731,7 @@ bool Ekf::gain_rows(int& row, int end) {
   auto PHt = PHt_.block(r0, 0, rc, k);
   auto W = W_.block(r0, 0, rc, 2 * k);
   W.leftCols(k).noalias() = PHt.lazyProduct(Sinv_);
-  for (int j = 0; j < m_; ++j) {  // consider update: only the young landmark's own rows
+  for (Eigen::Index j = 0; j < m_; ++j) {  // consider update: only the young landmark's own rows
     if (young_[static_cast<std::size_t>(j)]) {
       const int lm = lms_[static_cast<std::size_t>(j)];
       const int below = std::clamp(lm, r0, end);
@@ -820,7 +820,7 @@ int Ekf::drop_out_of_bounds(int m) {
     Hl_[qs] = Hl_[js];
     R_[qs] = R_[js];
     young_[qs] = young_[js];
-    nu_.segment<3>(3 * q) = nu_.segment<3>(3 * j);
+    nu_.segment<3>(3 * Eigen::Index{q}) = nu_.segment<3>(3 * Eigen::Index{j});
     ++q;
   }
   return q;
@@ -900,9 +900,9 @@ int Ekf::joint_pixel_innovation(std::span<const Observation> obs, std::span<doub
   const double r =
       config_.eps_trk_px * config_.eps_trk_px + config_.eps_cal_px * config_.eps_cal_px;
   const Matrix6d Pxx = P_.topLeftCorner<6, 6>();
-  for (int i = 0; i < count; ++i) {
+  for (Eigen::Index i = 0; i < count; ++i) {
     const auto is = static_cast<std::size_t>(i);
-    for (int j = i; j < count; ++j) {
+    for (Eigen::Index j = i; j < count; ++j) {
       const auto js = static_cast<std::size_t>(j);
       Sm.block<2, 2>(2 * i, 2 * j) = Jp[is] * Pxx * Jp[js].transpose() +
                                      Jp[is] * P_.block<6, 3>(0, lm[js]) * Jl[js].transpose() +
@@ -949,8 +949,8 @@ hal::PoseEstimate Ekf::body_pose_estimate(hal::TimeNs t_ns) const {
     J.col(c) = d / (2.0 * kStep);
   }
   const Matrix6d Pb = J * P_.topLeftCorner<6, 6>() * J.transpose();
-  for (int r = 0; r < 6; ++r) {
-    for (int c = 0; c < 6; ++c) {
+  for (Eigen::Index r = 0; r < 6; ++r) {
+    for (Eigen::Index c = 0; c < 6; ++c) {
       out.covariance[static_cast<std::size_t>(6 * r + c)] = 0.5 * (Pb(r, c) + Pb(c, r));
     }
   }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 namespace cleanslam::slam_core::frontend {
@@ -15,14 +16,14 @@ constexpr int kMaxSortedCandidates = 4 * hal::kMaxCorners;
 struct HarrisDetector::Planes {
   static constexpr int kRing = 7;  // rows of the vertical blur window (2 * max radius + 1)
   // Structure-tensor products blurred along their row, for the last kRing image rows.
-  std::array<float, kRing * hal::kImageWidth> hxx;
-  std::array<float, kRing * hal::kImageWidth> hxy;
-  std::array<float, kRing * hal::kImageWidth> hyy;
-  std::array<float, hal::kImageWidth> gxx;
-  std::array<float, hal::kImageWidth> gxy;
-  std::array<float, hal::kImageWidth> gyy;
-  std::array<float, kPlaneSize> response;
-  std::array<Corner, kPlaneSize / 4 + hal::kImageWidth> candidates;
+  std::array<float, std::size_t{kRing} * hal::kImageWidth> hxx{};
+  std::array<float, std::size_t{kRing} * hal::kImageWidth> hxy{};
+  std::array<float, std::size_t{kRing} * hal::kImageWidth> hyy{};
+  std::array<float, hal::kImageWidth> gxx{};
+  std::array<float, hal::kImageWidth> gxy{};
+  std::array<float, hal::kImageWidth> gyy{};
+  std::array<float, kPlaneSize> response{};
+  std::array<Corner, kPlaneSize / 4 + hal::kImageWidth> candidates{};
 };
 
 namespace {
@@ -101,9 +102,10 @@ HarrisDetector::HarrisDetector(const HarrisConfig& config)
   config_.sigma_px = sigma;
   kernel_radius_ = std::clamp(static_cast<int>(std::ceil(2.0F * sigma)), 1, 3);
   float sum = 0.0F;
-  for (int i = -kernel_radius_; i <= kernel_radius_; ++i) {
+  for (int j = 0; j <= 2 * kernel_radius_; ++j) {
+    const int i = j - kernel_radius_;  // offset from the centre
     const float w = std::exp(-static_cast<float>(i * i) / (2.0F * sigma * sigma));
-    kernel_[static_cast<std::size_t>(i + kernel_radius_)] = w;
+    kernel_[static_cast<std::size_t>(j)] = w;
     sum += w;
   }
   for (int i = 0; i <= 2 * kernel_radius_; ++i) {
@@ -179,9 +181,9 @@ void HarrisDetector::suppress_rows(int last_response_row) {
   int n = candidate_count_;
   for (; nms_row_ < y_end && n < capacity; ++nms_row_) {
     const int y = nms_row_;
-    const float* up = p.response.data() + (y - 1) * w;
-    const float* mid = p.response.data() + y * w;
-    const float* dn = p.response.data() + (y + 1) * w;
+    const float* up = p.response.data() + static_cast<std::ptrdiff_t>(y - 1) * w;
+    const float* mid = p.response.data() + static_cast<std::ptrdiff_t>(y) * w;
+    const float* dn = p.response.data() + static_cast<std::ptrdiff_t>(y + 1) * w;
     for (int x = border; x < w - border; ++x) {
       const float v = mid[x];
       if (v <= floor_response) {
@@ -271,7 +273,8 @@ void harris_response(const hal::GrayImageView& image, const float* kern, float h
       rxy[j] = p.hxy.data() + s;
       ryy[j] = p.hyy.data() + s;
     }
-    response_row<R>(rxx, rxy, ryy, kern, harris_k, 1 + R, w - 1 - R, p.response.data() + y * w);
+    response_row<R>(rxx, rxy, ryy, kern, harris_k, 1 + R, w - 1 - R,
+                    p.response.data() + static_cast<std::ptrdiff_t>(y) * w);
   }
 }
 

@@ -8,7 +8,7 @@ namespace cleanslam::slam_core::frontend {
 
 namespace {
 constexpr std::size_t at(int r, int c, int ld) {
-  return static_cast<std::size_t>(r * ld + c);
+  return static_cast<std::size_t>(r) * static_cast<std::size_t>(ld) + static_cast<std::size_t>(c);
 }
 }  // namespace
 
@@ -64,7 +64,7 @@ bool Jcbb::try_add(int depth, int obs, double nis, double& nis_out) {
   const double y0 = e0 / l00;
   const double y1 = (e1 - l10 * y0) / l11;
   nis_out = nis + y0 * y0 + y1 * y1;
-  if (!(nis_out <= bounds_[static_cast<std::size_t>(depth + 1)])) {
+  if (!(nis_out <= bounds_[static_cast<std::size_t>(depth) + 1])) {
     return false;
   }
   L[at(n, n, kDim)] = l00;
@@ -72,7 +72,7 @@ bool Jcbb::try_add(int depth, int obs, double nis, double& nis_out) {
   L[at(n + 1, n, kDim)] = l10;
   L[at(n + 1, n + 1, kDim)] = l11;
   y_[static_cast<std::size_t>(n)] = y0;
-  y_[static_cast<std::size_t>(n + 1)] = y1;
+  y_[static_cast<std::size_t>(n) + 1] = y1;
   return true;
 }
 

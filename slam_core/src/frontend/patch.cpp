@@ -18,7 +18,7 @@ float sample_stored(const LandmarkPatch& p, float x, float y) {
   const int iy = std::clamp(static_cast<int>(std::floor(fy)), 0, kStoredPatchSize - 2);
   const float ax = fx - static_cast<float>(ix);
   const float ay = fy - static_cast<float>(iy);
-  const float* r0 = p.pixels.data() + iy * kStoredPatchSize + ix;
+  const float* r0 = p.pixels.data() + pixel_index(iy, ix, kStoredPatchSize);
   const float* r1 = r0 + kStoredPatchSize;
   const float top = r0[0] + ax * (r0[1] - r0[0]);
   const float bot = r1[0] + ax * (r1[1] - r1[0]);
@@ -51,7 +51,7 @@ bool capture_patch(const hal::GrayImageView& image, double u_px, double v_px, do
   for (int r = 0; r < kStoredPatchSize; ++r) {
     const std::uint8_t* a = image.row(iy + r) + ix;
     const std::uint8_t* b = image.row(iy + r + 1) + ix;
-    float* dst = out.pixels.data() + r * kStoredPatchSize;
+    float* dst = out.pixels.data() + pixel_index(r, 0, kStoredPatchSize);
     for (int c = 0; c < kStoredPatchSize; ++c) {
       dst[c] = w00 * static_cast<float>(a[c]) + w01 * static_cast<float>(a[c + 1]) +
                w10 * static_cast<float>(b[c]) + w11 * static_cast<float>(b[c + 1]);
@@ -80,16 +80,16 @@ bool make_template(const LandmarkPatch& patch, double scale, float min_std_gray,
   const double s = std::clamp(scale, kMinPatchScale, kMaxPatchScale);
   out.scale = s;
   const auto inv = static_cast<float>(1.0 / s);
-  std::array<float, kTemplateSide * kTemplateSide> t{};
-  constexpr int half = kTemplateSide / 2;
+  std::array<float, std::size_t{kTemplateSide} * kTemplateSide> t{};
+  constexpr int kHalf = kTemplateSide / 2;
   // Shrinking (s < 1) averages four samples a quarter of the source spacing apart, so that the
   // coarser sampling does not alias.
   const bool smooth = s < 0.9;
   const float q = 0.25F * inv;
   for (int r = 0; r < kTemplateSide; ++r) {
-    const float y = static_cast<float>(r - half) * inv;
+    const float y = static_cast<float>(r - kHalf) * inv;
     for (int c = 0; c < kTemplateSide; ++c) {
-      const float x = static_cast<float>(c - half) * inv;
+      const float x = static_cast<float>(c - kHalf) * inv;
       float v = 0.0F;
       if (smooth) {
         v = 0.25F * (sample_stored(patch, x - q, y - q) + sample_stored(patch, x + q, y - q) +
@@ -97,13 +97,13 @@ bool make_template(const LandmarkPatch& patch, double scale, float min_std_gray,
       } else {
         v = sample_stored(patch, x, y);
       }
-      t[static_cast<std::size_t>(r * kTemplateSide + c)] = v;
+      t[pixel_index(r, c, kTemplateSide)] = v;
     }
   }
   float sum = 0.0F;
   for (int r = 1; r <= kPatchSize; ++r) {
     for (int c = 1; c <= kPatchSize; ++c) {
-      sum += t[static_cast<std::size_t>(r * kTemplateSide + c)];
+      sum += t[pixel_index(r, c, kTemplateSide)];
     }
   }
   const float mean = sum / static_cast<float>(kPatchSize * kPatchSize);
@@ -113,8 +113,8 @@ bool make_template(const LandmarkPatch& patch, double scale, float min_std_gray,
   float hyy = 0.0F;
   for (int r = 1; r <= kPatchSize; ++r) {
     for (int c = 1; c <= kPatchSize; ++c) {
-      const std::size_t i = static_cast<std::size_t>(r * kTemplateSide + c);
-      const std::size_t o = static_cast<std::size_t>((r - 1) * kPatchSize + (c - 1));
+      const std::size_t i = pixel_index(r, c, kTemplateSide);
+      const std::size_t o = pixel_index(r - 1, c - 1, kPatchSize);
       const float z = t[i] - mean;
       const float gx = 0.5F * (t[i + 1] - t[i - 1]);
       const float gy = 0.5F * (t[i + kTemplateSide] - t[i - kTemplateSide]);

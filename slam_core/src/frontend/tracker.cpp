@@ -49,9 +49,10 @@ bool window_sums(const hal::GrayImageView& image, const PatchTemplate& tmpl, dou
   for (int r = 0; r < kPatchSize; ++r) {
     const std::uint8_t* a = image.row(iy + r) + ix;
     const std::uint8_t* b = a + image.stride;
-    const float* gx = tmpl.gx.data() + r * kPatchSize;
-    const float* gy = tmpl.gy.data() + r * kPatchSize;
-    const float* t = tmpl.zero_mean.data() + r * kPatchSize;
+    const std::size_t row = pixel_index(r, 0, kPatchSize);
+    const float* gx = tmpl.gx.data() + row;
+    const float* gy = tmpl.gy.data() + row;
+    const float* t = tmpl.zero_mean.data() + row;
     for (int c = 0; c < kPatchSize; ++c) {
       const float w = w00 * static_cast<float>(a[c]) + w01 * static_cast<float>(a[c + 1]) +
                       w10 * static_cast<float>(b[c]) + w11 * static_cast<float>(b[c + 1]) - kBias;

@@ -150,7 +150,7 @@ void SlamSystem::record_features_update() {
       lf::UpdateRecord& r = records_[static_cast<std::size_t>(record_count_ - 1)];
       const double nu_u = nu_[2 * ui];
       const double nu_v = nu_[2 * ui + 1];
-      const auto ld = static_cast<std::size_t>(2 * m);
+      const std::size_t ld = 2 * static_cast<std::size_t>(m);
       const double a = S_[2 * ui * ld + 2 * ui];
       const double b = S_[(2 * ui + 1) * ld + 2 * ui];
       const double d = S_[(2 * ui + 1) * ld + 2 * ui + 1];

@@ -110,7 +110,7 @@ float Relocalizer::ncc_at(const frontend::PatchTemplate& tmpl, double u, double 
       const auto p = static_cast<float>(row[x]);
       sum += p;
       sum_sq += p * p;
-      cross += p * tmpl.zero_mean[static_cast<std::size_t>(y * frontend::kPatchSize + x)];
+      cross += p * tmpl.zero_mean[frontend::pixel_index(y, x, frontend::kPatchSize)];
     }
   }
   constexpr auto kN = static_cast<float>(frontend::kPatchSize * frontend::kPatchSize);

@@ -20,7 +20,9 @@ inline void record_log(const std::string& dataset, const std::string& log,
     args.push_back(s);
   }
   std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
+  for (std::string& a : args) {
+    argv.push_back(a.data());
+  }
   ASSERT_EQ(firmware::program_main(static_cast<int>(argv.size()), argv.data()), 0)
       << "cleanslam --dataset " << dataset << " --record " << log;
 }

@@ -39,7 +39,9 @@ cv::Mat reference_camera_matrix(const std::vector<std::string>& files, int cols,
     const cv::Mat m = cv::imread(f, cv::IMREAD_GRAYSCALE);
     size = m.size();
     std::vector<cv::Point2f> corners;
-    if (!cv::findChessboardCorners(m, cv::Size(cols, rows), corners)) continue;
+    if (!cv::findChessboardCorners(m, cv::Size(cols, rows), corners)) {
+      continue;
+    }
     cv::cornerSubPix(m, corners, cv::Size(5, 5), cv::Size(-1, -1),
                      cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.1));
     object.push_back(board);
@@ -55,7 +57,9 @@ cv::Mat reference_camera_matrix(const std::vector<std::string>& files, int cols,
 // 0.5 % of an independent OpenCV calibration.
 TEST(CameraCalibration, AgreesWithOpenCvOnItsSampleViews) {
   const std::string folder = CLEANSLAM_CHECKERBOARD_DIR;
-  if (!std::filesystem::is_directory(folder)) GTEST_SKIP() << folder << " is absent";
+  if (!std::filesystem::is_directory(folder)) {
+    GTEST_SKIP() << folder << " is absent";
+  }
   const std::vector<std::string> files = calibrate::image_files(folder);
   auto c = calibrate::calibrate_camera(files, kBoard, {});
   ASSERT_TRUE(c.ok()) << c.error();
@@ -91,14 +95,18 @@ TEST(CameraCalibration, MatchesTheSimulatorsIntrinsicsOverSeeds) {
         static_cast<unsigned long long>(seed), 100.0 * e[0], 100.0 * e[1], 100.0 * e[2],
         100.0 * e[3], c->distortion[0], t.distortion[0], c->distortion[1], t.distortion[1],
         c->rms_px, c->views);
-    for (const double ei : e) EXPECT_LT(std::abs(ei), 0.01) << "seed " << seed;
+    for (const double ei : e) {
+      EXPECT_LT(std::abs(ei), 0.01) << "seed " << seed;
+    }
     EXPECT_NEAR(c->distortion[0], t.distortion[0], 0.02) << "seed " << seed;
   }
 }
 
 TEST(CameraCalibration, RefusesTooFewViewsNamingTheCount) {
   const std::string folder = CLEANSLAM_CHECKERBOARD_DIR;
-  if (!std::filesystem::is_directory(folder)) GTEST_SKIP() << folder << " is absent";
+  if (!std::filesystem::is_directory(folder)) {
+    GTEST_SKIP() << folder << " is absent";
+  }
   std::vector<std::string> files = calibrate::image_files(folder);
   files.resize(5);
   auto c = calibrate::calibrate_camera(files, kBoard, {});
@@ -109,7 +117,9 @@ TEST(CameraCalibration, RefusesTooFewViewsNamingTheCount) {
 
 TEST(CameraCalibration, RefusesCornersThatDoNotCoverTheImageNamingTheEdges) {
   const std::string folder = CLEANSLAM_CHECKERBOARD_DIR;
-  if (!std::filesystem::is_directory(folder)) GTEST_SKIP() << folder << " is absent";
+  if (!std::filesystem::is_directory(folder)) {
+    GTEST_SKIP() << folder << " is absent";
+  }
   calibrate::CameraCalibrationOptions o;
   o.min_coverage = 0.9;
   auto c = calibrate::calibrate_camera(calibrate::image_files(folder), kBoard, o);
@@ -120,7 +130,9 @@ TEST(CameraCalibration, RefusesCornersThatDoNotCoverTheImageNamingTheEdges) {
 
 TEST(CameraCalibration, RefusesTheWrongBoard) {
   const std::string folder = CLEANSLAM_CHECKERBOARD_DIR;
-  if (!std::filesystem::is_directory(folder)) GTEST_SKIP() << folder << " is absent";
+  if (!std::filesystem::is_directory(folder)) {
+    GTEST_SKIP() << folder << " is absent";
+  }
   std::vector<std::string> views = calibrate::image_files(folder);
   views.resize(3);  // the corner search fails slowly: three views show the refusal
   auto c = calibrate::calibrate_camera(views, {10, 7, 0.025}, {});

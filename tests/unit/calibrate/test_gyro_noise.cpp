@@ -18,9 +18,13 @@ TEST(AllanDeviation, WhiteNoiseFallsWithTheSquareRootOfTau) {
   const double density = 0.001, dt = 0.01;
   std::normal_distribution<double> white(0.0, density / std::sqrt(dt));
   std::vector<double> rates(200000);
-  for (double& r : rates) r = white(rng);
+  for (double& r : rates) {
+    r = white(rng);
+  }
   for (const calibrate::AllanPoint& p : calibrate::allan_deviation(rates, dt)) {
-    if (p.tau_s > 2.0) continue;  // fewer clusters: a larger spread
+    if (p.tau_s > 2.0) {
+      continue;  // fewer clusters: a larger spread
+    }
     EXPECT_NEAR(p.deviation_rad_s * std::sqrt(p.tau_s), density, 0.05 * density) << p.tau_s;
   }
 }

@@ -21,7 +21,9 @@ namespace {
 
 bool mentions(const std::vector<std::string>& lines, const std::string& what) {
   for (const std::string& l : lines) {
-    if (l.find(what) != std::string::npos) return true;
+    if (l.find(what) != std::string::npos) {
+      return true;
+    }
   }
   return false;
 }
@@ -107,7 +109,9 @@ TEST(LogRecording, CameraFromALogOfTheRenderedBoardWithinOnePercentOfTheTruth) {
       "log of %zu frames: fx %+.3f %%, fy %+.3f %%, cx %+.3f %%, cy %+.3f %%, RMS %.3f px, "
       "%d views\n",
       images, 100.0 * e[0], 100.0 * e[1], 100.0 * e[2], 100.0 * e[3], c->rms_px, c->views);
-  for (const double ei : e) EXPECT_LT(std::abs(ei), 0.01);
+  for (const double ei : e) {
+    EXPECT_LT(std::abs(ei), 0.01);
+  }
 
   auto thinned = calibrate::read_log_frames(dir.sub("board.log"), 0, 8, warnings);
   ASSERT_TRUE(thinned.ok()) << thinned.error();
@@ -192,7 +196,9 @@ TEST(LogRecording, CountsTheRecordsADamagedLogRefusesAndGoesOn) {
     ASSERT_TRUE(reader.open(path)) << reader.error();
     std::vector<std::size_t> gyro;
     for (const readers::LogRecordRef& r : reader.records()) {
-      if (r.type == hal::log::RecordType::kGyro) gyro.push_back(r.offset);
+      if (r.type == hal::log::RecordType::kGyro) {
+        gyro.push_back(r.offset);
+      }
     }
     ASSERT_FALSE(gyro.empty());
     std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);

@@ -143,9 +143,10 @@ TEST(Evaluation, NoiseGivesMatchingAteAndConsistentNees) {
   const auto gt = make_gt();
   const double sigma = 0.05;
   auto est = make_estimate(gt, 0.0, {0, 0, 0}, sigma);
-  for (auto& p : est)
+  for (auto& p : est) {
     p.position_covariance =
         std::array<double, 9>{sigma * sigma, 0, 0, 0, sigma * sigma, 0, 0, 0, sigma * sigma};
+  }
   auto m = ev::evaluate(gt, est, ev::Alignment::kSe3);
   ASSERT_TRUE(m.ok());
   EXPECT_NEAR(m->ate_rmse_m, sigma * std::sqrt(3.0), 0.01);
@@ -153,9 +154,10 @@ TEST(Evaluation, NoiseGivesMatchingAteAndConsistentNees) {
   EXPECT_NEAR(m->nees_mean, 3.0, 0.4);
   EXPECT_NEAR(m->nees_fraction_in_95, 0.95, 0.04);
   // An over-confident covariance gives a large NEES.
-  for (auto& p : est)
+  for (auto& p : est) {
     p.position_covariance = std::array<double, 9>{
         1e-4 * sigma * sigma, 0, 0, 0, 1e-4 * sigma * sigma, 0, 0, 0, 1e-4 * sigma * sigma};
+  }
   auto bad = ev::evaluate(gt, est, ev::Alignment::kSe3);
   EXPECT_GT(bad->nees_mean, 1000.0);
   EXPECT_EQ(bad->nees_not_positive_definite, 0);
@@ -169,7 +171,9 @@ TEST(Evaluation, NeesRatioWithItsBandAndVerdict) {
   const double sigma = 0.05;
   auto est = make_estimate(gt, 0.0, {0, 0, 0}, sigma);
   const auto with_variance = [&](double v) {
-    for (auto& p : est) p.position_covariance = std::array<double, 9>{v, 0, 0, 0, v, 0, 0, 0, v};
+    for (auto& p : est) {
+      p.position_covariance = std::array<double, 9>{v, 0, 0, 0, v, 0, 0, 0, v};
+    }
     return ev::evaluate(gt, est, ev::Alignment::kSe3);
   };
   auto m = with_variance(sigma * sigma);
@@ -277,7 +281,9 @@ TEST(Evaluation, ReadsTumAndCovarianceFiles) {
                               << "1.5";
   std::ofstream(tum + ".cov", std::ios::app) << [] {
     std::string s;
-    for (int i = 0; i < 36; ++i) s += (i % 7 == 0) ? " 2" : " 0";
+    for (int i = 0; i < 36; ++i) {
+      s += (i % 7 == 0) ? " 2" : " 0";
+    }
     return s + "\n";
   }();
   auto est = ev::read_tum(tum);

@@ -53,11 +53,14 @@ void write_dataset(const fs::path& dir, std::int64_t seconds) {
   constexpr std::int64_t kMs = 1'000'000;
   std::ofstream gyro(dir / "gyro.csv");
   gyro << "#t_ns,wz_rad_s\n";
-  for (std::int64_t i = 0; i < seconds * 100; ++i) gyro << i * 10 * kMs << ",0.01\n";
+  for (std::int64_t i = 0; i < seconds * 100; ++i) {
+    gyro << i * 10 * kMs << ",0.01\n";
+  }
   std::ofstream enc(dir / "encoders.csv");
   enc << "#t_ns,left_ticks,right_ticks\n";
-  for (std::int64_t i = 0; i < seconds * 20; ++i)
+  for (std::int64_t i = 0; i < seconds * 20; ++i) {
     enc << i * 50 * kMs << "," << i << "," << i << "\n";
+  }
   std::ofstream cam(dir / "cam0" / "data.csv");
   cam << "#t_ns,filename\n";
   std::ofstream features(dir / "features.csv");
@@ -67,7 +70,9 @@ void write_dataset(const fs::path& dir, std::int64_t seconds) {
     if (i % 2 == 0) {
       cam << t << ",f.pgm\n";
     } else {
-      for (int k = 0; k < 8; ++k) features << t << "," << (i + k) << ",10.5,12.25\n";
+      for (int k = 0; k < 8; ++k) {
+        features << t << "," << (i + k) << ",10.5,12.25\n";
+      }
     }
   }
   std::ofstream(dir / "lift.csv") << "#t_ns,lifted\n" << 20 * kMs << ",1\n" << 40 * kMs << ",0\n";
@@ -84,7 +89,9 @@ Use stream(const fs::path& dir) {
   const std::size_t before = heap_in_use();
   auto src = readers::DatasetSource::open(dir.string());
   EXPECT_TRUE(src.ok()) << src.error();
-  if (!src.ok()) return use;
+  if (!src.ok()) {
+    return use;
+  }
   use.held_after_open = heap_in_use() - before;
   hal::SensorEvent ev;
   while (src->read(ev)) {

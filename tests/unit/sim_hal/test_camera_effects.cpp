@@ -140,12 +140,16 @@ TEST(CameraEffects, FramesAutoExposeTowardsTheTarget) {
   readers::GrayImage img;
   auto mean = [&] {
     double s = 0.0;
-    for (const auto p : img.pixels) s += p;
+    for (const auto p : img.pixels) {
+      s += p;
+    }
     return s / static_cast<double>(img.pixels.size());
   };
   exposure.render(renderer, still, 0.0, rng, img);
   const double first = mean();
-  for (int k = 1; k < 12; ++k) exposure.render(renderer, still, 0.5 * k, rng, img);
+  for (int k = 1; k < 12; ++k) {
+    exposure.render(renderer, still, 0.5 * k, rng, img);
+  }
   EXPECT_GT(exposure.max_gain(), 1.0);
   EXPECT_NEAR(std::log2(mean() / 150.0), 0.0, 0.125 + 0.02) << "first frame " << first;
   const double steps = std::log2(exposure.max_gain()) / 0.25;
@@ -189,7 +193,9 @@ TEST(CameraEffects, NoiseVarianceGrowsWithTheSignal) {
   for (std::size_t i = 0; i < a.pixels.size(); ++i) {
     const double mean = 0.5 * (a.pixels[i] + b.pixels[i]);
     const auto band = static_cast<std::size_t>(mean / 40.0);
-    if (band >= 6 || a.pixels[i] == 255 || b.pixels[i] == 255) continue;
+    if (band >= 6 || a.pixels[i] == 255 || b.pixels[i] == 255) {
+      continue;
+    }
     const double d = static_cast<double>(a.pixels[i]) - b.pixels[i];
     sum[band] += mean;
     sum2[band] += d * d;
@@ -197,7 +203,9 @@ TEST(CameraEffects, NoiseVarianceGrowsWithTheSignal) {
   }
   int bands = 0;
   for (std::size_t k = 0; k < 6; ++k) {
-    if (n[k] < 2000) continue;
+    if (n[k] < 2000) {
+      continue;
+    }
     ++bands;
     const double signal = sum[k] / n[k];
     const double variance = 0.5 * sum2[k] / n[k];
@@ -217,7 +225,9 @@ TEST(CameraEffects, AutoExposureStepsTheGainTowardsTheTarget) {
   double light = 30.0;  // mean gray level at gain 1
   int last = 0;
   for (int frame = 0; frame < 40; ++frame) {
-    if (frame == 20) light *= 2.0;
+    if (frame == 20) {
+      light *= 2.0;
+    }
     ae.update(light * ae.gain());
     EXPECT_LE(std::abs(ae.steps() - last), 2);
     EXPECT_NEAR(ae.gain(), std::exp2(ae.steps() / 3.0), 1e-12);
@@ -229,7 +239,9 @@ TEST(CameraEffects, AutoExposureStepsTheGainTowardsTheTarget) {
   }
   // Twice the light: one stop, three steps down.
   sim::AutoExposure dark(110.0, 1.0 / 3.0);
-  for (int i = 0; i < 20; ++i) dark.update(30.0 * dark.gain());
+  for (int i = 0; i < 20; ++i) {
+    dark.update(30.0 * dark.gain());
+  }
   EXPECT_EQ(last, dark.steps() - 3);
 }
 
@@ -253,7 +265,9 @@ TEST(CameraEffects, DistortionIsTheCalibrationsRadialTangentialModel) {
     EXPECT_NEAR(v, c.fy * yd + c.cy, 1e-9);
   }
   const auto cal = sim::calibration_of(sc);
-  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(cal.camera.distortion[i], c.distortion[i]);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(cal.camera.distortion[i], c.distortion[i]);
+  }
 }
 
 TEST(CameraEffects, RealisticCameraScenarioTurnsFastAtALowFrameRate) {
@@ -288,7 +302,9 @@ TEST(CameraEffects, PhotographsOrProceduralTexturesSayingWhy) {
   EXPECT_NE(fallback.textures_note().find("python3-skimage"), std::string::npos);
   const auto sc = scenario("realistic-camera", {});
   sim::Renderer photos(sc);
-  if (!photos.photos_in_use()) GTEST_SKIP() << photos.textures_note();
+  if (!photos.photos_in_use()) {
+    GTEST_SKIP() << photos.textures_note();
+  }
   // The photographs change the image: same pose and noise, different textures.
   const auto pose = camera_at(sc, 2.0, 2.5, 0.3);
   EXPECT_NE(render(sc, {pose}).pixels, render(missing, {pose}).pixels);

@@ -42,8 +42,9 @@ class DatasetDir {
 readers::GrayImage pattern(int w, int h, int seed) {
   readers::GrayImage img(w, h);
   for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x)
+    for (int x = 0; x < w; ++x) {
       img.at(x, y) = static_cast<std::uint8_t>((x * 7 + y * 3 + seed) & 0xFF);
+    }
   }
   return img;
 }
@@ -443,7 +444,9 @@ TEST(DatasetSource, ImageVanishingWhileStreamingIsCountedNotFatal) {
   fs::remove(dir.path() / "cam0" / "data" / "750000000.png");
   hal::SensorEvent ev;
   int frames = 0;
-  while (src->read(ev)) frames += ev.kind == hal::SensorEvent::Kind::kFrame ? 1 : 0;
+  while (src->read(ev)) {
+    frames += ev.kind == hal::SensorEvent::Kind::kFrame ? 1 : 0;
+  }
   EXPECT_EQ(frames, 3);
   EXPECT_EQ(src->image_errors(), 1);
   EXPECT_TRUE(contains(src->last_error(), "750000000.png"));
@@ -460,10 +463,14 @@ TEST(DatasetSource, LiftEventsFromLiftCsv) {
   hal::TimeNs t_before = -1;
   while (true) {
     const hal::TimeNs t = src->next_event_time();
-    if (!src->read(ev)) break;
+    if (!src->read(ev)) {
+      break;
+    }
     EXPECT_GE(t, t_before);
     t_before = t;
-    if (ev.kind == hal::SensorEvent::Kind::kLift) lifts.emplace_back(t, ev.lifted);
+    if (ev.kind == hal::SensorEvent::Kind::kLift) {
+      lifts.emplace_back(t, ev.lifted);
+    }
   }
   ASSERT_EQ(lifts.size(), 2U);
   EXPECT_EQ(lifts[0], std::make_pair(hal::TimeNs{300000000}, true));
@@ -487,10 +494,14 @@ TEST(DatasetSource, AppliesTheCameraTimeOffsetOnlyWhenAsked) {
     hal::TimeNs previous = -1;
     while (true) {
       const hal::TimeNs t = src->next_event_time();
-      if (!src->read(ev)) break;
+      if (!src->read(ev)) {
+        break;
+      }
       EXPECT_GE(t, previous);
       previous = t;
-      if (ev.kind == hal::SensorEvent::Kind::kFrame) frames.push_back(ev.frame.t_ns);
+      if (ev.kind == hal::SensorEvent::Kind::kFrame) {
+        frames.push_back(ev.frame.t_ns);
+      }
     }
     const hal::TimeNs shift = apply ? -100 * hal::kNsPerMillisecond : 0;
     EXPECT_EQ(frames, (std::vector<hal::TimeNs>{250 * hal::kNsPerMillisecond + shift,
@@ -531,7 +542,9 @@ TEST(Dataset, GarbledFilesNeverCrash) {
                                        dir.path() / "cam0" / "data.csv",
                                        dir.path() / "cam0" / "data" / "250000000.pgm"};
   std::vector<std::string> originals;
-  for (const auto& f : files) originals.push_back(read_file(f));
+  for (const auto& f : files) {
+    originals.push_back(read_file(f));
+  }
   std::uint64_t state = 12345;
   auto next = [&state] {
     state = state * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -669,8 +682,9 @@ TEST(DatasetSource, ARowBrokenAfterOpenEndsTheStreamWithItsLine) {
   DatasetDir dir;
   make_dataset(dir.str());
   std::string gyro = "#t_ns,wz_rad_s\n";
-  for (int i = 0; i < 5000; ++i)
+  for (int i = 0; i < 5000; ++i) {
     gyro += std::to_string(hal::TimeNs{i} * 10 * hal::kNsPerMillisecond) + ",0.5\n";
+  }
   write_file(dir.path() / "gyro.csv", gyro);
   auto src = DatasetSource::open(dir.str());
   ASSERT_TRUE(src.ok()) << src.error();
@@ -686,7 +700,9 @@ TEST(DatasetSource, ARowBrokenAfterOpenEndsTheStreamWithItsLine) {
   }
   hal::SensorEvent ev;
   int gyro_events = 0;
-  while (src->read(ev)) gyro_events += ev.kind == hal::SensorEvent::Kind::kGyro ? 1 : 0;
+  while (src->read(ev)) {
+    gyro_events += ev.kind == hal::SensorEvent::Kind::kGyro ? 1 : 0;
+  }
   EXPECT_EQ(gyro_events, 3999);
   EXPECT_TRUE(src->exhausted());
   EXPECT_TRUE(contains(src->stream_error(),

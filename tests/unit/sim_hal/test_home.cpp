@@ -68,7 +68,9 @@ struct Floor {
   int regions = 0;
   [[nodiscard]] int at(double x, double y) const {
     const int i = static_cast<int>(x / cell), j = static_cast<int>(y / cell);
-    if (i < 0 || j < 0 || i >= nx || j >= ny) return -1;
+    if (i < 0 || j < 0 || i >= nx || j >= ny) {
+      return -1;
+    }
     return region[static_cast<std::size_t>(j * nx + i)];
   }
 };
@@ -92,7 +94,9 @@ Floor rooms(const sim::Scenario& sc, double clearance) {
     }
   }
   for (std::size_t start = 0; start < free.size(); ++start) {
-    if (!free[start] || f.region[start] >= 0) continue;
+    if (!free[start] || f.region[start] >= 0) {
+      continue;
+    }
     std::vector<std::size_t> stack{start};
     f.region[start] = f.regions;
     while (!stack.empty()) {
@@ -102,7 +106,9 @@ Floor rooms(const sim::Scenario& sc, double clearance) {
       const int di[4] = {1, -1, 0, 0}, dj[4] = {0, 0, 1, -1};
       for (int k = 0; k < 4; ++k) {
         const int a = i + di[k], b = j + dj[k];
-        if (a < 0 || b < 0 || a >= f.nx || b >= f.ny) continue;
+        if (a < 0 || b < 0 || a >= f.nx || b >= f.ny) {
+          continue;
+        }
         const std::size_t n = static_cast<std::size_t>(b * f.nx + a);
         if (free[n] && f.region[n] < 0) {
           f.region[n] = f.regions;
@@ -270,7 +276,9 @@ TEST(SimHome, MovedFurnitureTakesExactlyItsLandmarksAlong) {
     for (std::size_t k = 0; k < day2.world.furniture.size(); ++k) {
       const sim::Box& before = day1.world.furniture[k];
       const sim::Vec3 by = day2.world.furniture[k].moved_by;
-      if (sim::norm(by) == 0.0 || !on_box_surface(before, l1.position)) continue;
+      if (sim::norm(by) == 0.0 || !on_box_surface(before, l1.position)) {
+        continue;
+      }
       EXPECT_LT(sim::norm(d - by), 1e-12) << "landmark " << l1.id;
       EXPECT_TRUE(on_box_surface(w2.boxes()[k], l2.position)) << "landmark " << l1.id;
       ++moved_per_box[k];
@@ -280,7 +288,9 @@ TEST(SimHome, MovedFurnitureTakesExactlyItsLandmarksAlong) {
   }
   // Three objects moved, each with landmarks on it; every other landmark where it was.
   EXPECT_EQ(moved_per_box.size(), 3U);
-  for (const auto& [k, n] : moved_per_box) EXPECT_GT(n, 0) << "furniture " << k;
+  for (const auto& [k, n] : moved_per_box) {
+    EXPECT_GT(n, 0) << "furniture " << k;
+  }
   EXPECT_GT(unmoved, 300);
   for (std::size_t k = 0; k < day1.world.furniture.size(); ++k) {
     const bool moved = moved_per_box.count(k) > 0;
@@ -337,14 +347,20 @@ TEST(SimHome, IsAFlatOfRoomsJoinedByDoorsThatThePathsTourAndRevisit) {
     for (double t = 0.0; t <= traj.duration(); t += 0.5) {
       const auto s = traj.at(t);
       const int r = room.at(s.position.x, s.position.y);
-      if (r >= 0 && (visits.empty() || visits.back() != r)) visits.push_back(r);
+      if (r >= 0 && (visits.empty() || visits.back() != r)) {
+        visits.push_back(r);
+      }
     }
     EXPECT_EQ(std::set<int>(visits.begin(), visits.end()).size(),
               static_cast<std::size_t>(room.regions));
     std::map<int, int> entries;
-    for (int r : visits) ++entries[r];
+    for (int r : visits) {
+      ++entries[r];
+    }
     int revisited = 0;
-    for (const auto& [r, n] : entries) revisited += n > 1 ? 1 : 0;
+    for (const auto& [r, n] : entries) {
+      revisited += n > 1 ? 1 : 0;
+    }
     EXPECT_GE(revisited, 2);
     const auto end = traj.at(traj.duration());
     EXPECT_NEAR(end.position.x, sc.path.waypoints.front()[0], 1e-9);
@@ -398,9 +414,15 @@ TEST(SimHome, AnInteriorWallHidesWhatIsBehindIt) {
   int west_face = 0, behind = 0, before = 0;
   for (const auto& f : d->features) {
     const double x = x_of.at(f.observation.track_id);
-    if (x > 3.05) ++behind;
-    if (std::abs(x - 2.9) < 1e-12) ++west_face;
-    if (x < 2.9) ++before;
+    if (x > 3.05) {
+      ++behind;
+    }
+    if (std::abs(x - 2.9) < 1e-12) {
+      ++west_face;
+    }
+    if (x < 2.9) {
+      ++before;
+    }
   }
   EXPECT_EQ(behind, 0);
   EXPECT_GT(west_face, 20);

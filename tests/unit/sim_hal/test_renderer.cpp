@@ -83,7 +83,9 @@ TEST(Renderer, RendersTexturedDeterministicImages) {
   sim::Random c(3);
   r1.render(wc, 1.3, c, i3);
   double mean3 = 0.0;
-  for (auto p : i3.pixels) mean3 += p;
+  for (auto p : i3.pixels) {
+    mean3 += p;
+  }
   EXPECT_GT(mean3 / static_cast<double>(i3.pixels.size()), mean * 1.15);
 }
 
@@ -98,7 +100,9 @@ TEST(Renderer, ImagesModeWritesAReadableDataset) {
   hal::SensorEvent ev;
   int frames = 0, with_both = 0;
   while (src->read(ev)) {
-    if (ev.kind != hal::SensorEvent::Kind::kFrame) continue;
+    if (ev.kind != hal::SensorEvent::Kind::kFrame) {
+      continue;
+    }
     ++frames;
     ASSERT_TRUE(ev.frame.has_image());
     EXPECT_EQ(ev.frame.image.width, 320);

@@ -74,7 +74,9 @@ TEST(SimMath, QuaternionOfRotation) {
       const auto q = sim::quaternion_wxyz(r);
       const auto m = quat_to_matrix(q);
       for (std::size_t i = 0; i < 3; ++i) {
-        for (std::size_t j = 0; j < 3; ++j) EXPECT_NEAR(m[3 * i + j], r.m[i][j], 1e-12);
+        for (std::size_t j = 0; j < 3; ++j) {
+          EXPECT_NEAR(m[3 * i + j], r.m[i][j], 1e-12);
+        }
       }
     }
   }
@@ -269,7 +271,9 @@ TEST(Simulator, FeaturesAreProjectionsThroughTheWrittenCalibration) {
   std::size_t gi = 0;
   int checked = 0;
   for (const auto& f : d->features) {
-    while (gi + 1 < d->groundtruth.size() && d->groundtruth[gi + 1].t_ns <= f.t_ns) ++gi;
+    while (gi + 1 < d->groundtruth.size() && d->groundtruth[gi + 1].t_ns <= f.t_ns) {
+      ++gi;
+    }
     const auto& g0 = d->groundtruth[gi];
     const auto& g1 = d->groundtruth[std::min(gi + 1, d->groundtruth.size() - 1)];
     const double a = g1.t_ns == g0.t_ns ? 0.0
@@ -280,7 +284,9 @@ TEST(Simulator, FeaturesAreProjectionsThroughTheWrittenCalibration) {
       q[i] = (1 - a) * g0.orientation_wxyz[i] + a * g1.orientation_wxyz[i];
     }
     const double qn = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    for (double& v : q) v /= qn;
+    for (double& v : q) {
+      v /= qn;
+    }
     std::array<double, 3> p{};
     for (std::size_t i = 0; i < 3; ++i) {
       p[i] = (1 - a) * g0.position_m[i] + a * g1.position_m[i];
@@ -355,9 +361,13 @@ TEST(Simulator, GyroNoiseAndBiasFollowTheScenario) {
   auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
   double sum = 0.0, sum2 = 0.0;
-  for (const auto& g : d->gyro) sum += g.wz_rad_s;
+  for (const auto& g : d->gyro) {
+    sum += g.wz_rad_s;
+  }
   const double mean = sum / static_cast<double>(d->gyro.size());
-  for (const auto& g : d->gyro) sum2 += (g.wz_rad_s - mean) * (g.wz_rad_s - mean);
+  for (const auto& g : d->gyro) {
+    sum2 += (g.wz_rad_s - mean) * (g.wz_rad_s - mean);
+  }
   const double sd = std::sqrt(sum2 / static_cast<double>(d->gyro.size()));
   EXPECT_NEAR(mean, 0.003, 0.0006);  // 4 sigma of the mean of 20000 samples
   EXPECT_NEAR(sd, 0.002 * std::sqrt(100.0), 0.001);
@@ -396,7 +406,9 @@ TEST(Simulator, KidnappedRobotIsLiftedAndMoved) {
   hal::TimeNs lift_start = -1, lift_end = -1;
   for (const auto& g : d->groundtruth) {
     if (g.position_m[2] > 1e-6) {
-      if (lift_start < 0) lift_start = g.t_ns;
+      if (lift_start < 0) {
+        lift_start = g.t_ns;
+      }
       lift_end = g.t_ns;
     }
     max_z = std::max(max_z, g.position_m[2]);
@@ -408,8 +420,12 @@ TEST(Simulator, KidnappedRobotIsLiftedAndMoved) {
   // No wheel counts while in the air.
   std::int32_t before = 0, after = 0;
   for (const auto& e : d->encoders) {
-    if (e.t_ns <= lift_start) before = e.left_ticks;
-    if (e.t_ns <= lift_end) after = e.left_ticks;
+    if (e.t_ns <= lift_start) {
+      before = e.left_ticks;
+    }
+    if (e.t_ns <= lift_end) {
+      after = e.left_ticks;
+    }
   }
   EXPECT_LE(std::abs(hal::tick_delta(after, before)), 40);  // at most one sample's driving
   // The wheel-drop switch: lift.csv says when, and the source turns it into kLift events.
@@ -445,8 +461,12 @@ TEST(Simulator, KidnappedAcrossIsSetDownOnTheFarSide) {
   const readers::GroundTruthPose* before = nullptr;
   const readers::GroundTruthPose* after = nullptr;
   for (const auto& g : d->groundtruth) {
-    if (g.t_ns <= d->lift[0].t_ns) before = &g;
-    if (after == nullptr && g.t_ns >= d->lift[1].t_ns) after = &g;
+    if (g.t_ns <= d->lift[0].t_ns) {
+      before = &g;
+    }
+    if (after == nullptr && g.t_ns >= d->lift[1].t_ns) {
+      after = &g;
+    }
   }
   ASSERT_NE(before, nullptr);
   ASSERT_NE(after, nullptr);
@@ -474,7 +494,11 @@ TEST(Simulator, SparsePoorOdometryIsSparse) {
   auto d = readers::load_dataset(dir.str());
   ASSERT_TRUE(d.ok()) << d.error();
   std::map<hal::TimeNs, int> per_frame;
-  for (const auto& f : d->features) ++per_frame[f.t_ns];
-  for (const auto& [t, n] : per_frame) EXPECT_LE(n, 3) << t;
+  for (const auto& f : d->features) {
+    ++per_frame[f.t_ns];
+  }
+  for (const auto& [t, n] : per_frame) {
+    EXPECT_LE(n, 3) << t;
+  }
   EXPECT_DOUBLE_EQ(d->calibration.camera.fx, 220.0);
 }

@@ -25,7 +25,9 @@ double allan_variance(const std::vector<double>& theta, std::size_t m, double dt
 // The angle integrated from the rates: theta[k] after k samples.
 std::vector<double> integrated_angles(const std::vector<double>& rates, double dt) {
   std::vector<double> theta(rates.size() + 1, 0.0);
-  for (std::size_t k = 0; k < rates.size(); ++k) theta[k + 1] = theta[k] + rates[k] * dt;
+  for (std::size_t k = 0; k < rates.size(); ++k) {
+    theta[k + 1] = theta[k] + rates[k] * dt;
+  }
   return theta;
 }
 
@@ -39,8 +41,12 @@ std::vector<AllanPoint> allan_deviation(const std::vector<double>& rates, double
   std::size_t last = 0;
   for (int i = 0;; ++i) {
     const auto m = static_cast<std::size_t>(std::llround(std::pow(10.0, double(i) / per_decade)));
-    if (m > max_m) break;
-    if (m == last) continue;
+    if (m > max_m) {
+      break;
+    }
+    if (m == last) {
+      continue;
+    }
     last = m;
     out.push_back({static_cast<double>(m) * dt, std::sqrt(allan_variance(theta, m, dt))});
   }
@@ -51,7 +57,9 @@ readers::Result<GyroNoise> gyro_noise(const readers::Dataset& d, const GyroNoise
   using GyroResult = readers::Result<GyroNoise>;
   const std::string gyro_file = samples_file(d, Samples::kGyro);
   const auto& g = d.gyro;
-  if (g.size() < 3) return GyroResult::failure(gyro_file + ": fewer than three samples");
+  if (g.size() < 3) {
+    return GyroResult::failure(gyro_file + ": fewer than three samples");
+  }
   for (std::size_t k = 1; k < d.encoders.size(); ++k) {
     const auto& a = d.encoders[k - 1];
     const auto& b = d.encoders[k];
@@ -72,7 +80,9 @@ readers::Result<GyroNoise> gyro_noise(const readers::Dataset& d, const GyroNoise
                                " s (--min-duration) to be known within about 7 %: record longer");
   }
   std::vector<hal::TimeNs> gaps;
-  for (std::size_t k = 1; k < g.size(); ++k) gaps.push_back(g[k].t_ns - g[k - 1].t_ns);
+  for (std::size_t k = 1; k < g.size(); ++k) {
+    gaps.push_back(g[k].t_ns - g[k - 1].t_ns);
+  }
   std::vector<hal::TimeNs> sorted = gaps;
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   const double dt = 1e-9 * static_cast<double>(sorted[sorted.size() / 2]);

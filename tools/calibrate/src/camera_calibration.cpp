@@ -34,10 +34,18 @@ std::vector<cv::Point3f> board_points(const Checkerboard& b) {
 // Which edges of the image the corners stay away from (more than a tenth of its size).
 std::string edges_missed(const std::array<double, 4>& box, int width, int height) {
   std::vector<std::string> edges;
-  if (box[0] > 0.1 * width) edges.emplace_back("left");
-  if (box[2] < 0.9 * width) edges.emplace_back("right");
-  if (box[1] > 0.1 * height) edges.emplace_back("top");
-  if (box[3] < 0.9 * height) edges.emplace_back("bottom");
+  if (box[0] > 0.1 * width) {
+    edges.emplace_back("left");
+  }
+  if (box[2] < 0.9 * width) {
+    edges.emplace_back("right");
+  }
+  if (box[1] > 0.1 * height) {
+    edges.emplace_back("top");
+  }
+  if (box[3] < 0.9 * height) {
+    edges.emplace_back("bottom");
+  }
   std::string s;
   for (std::size_t i = 0; i < edges.size(); ++i) {
     s += (i == 0 ? "" : (i + 1 == edges.size() ? " and " : ", ")) + edges[i];
@@ -76,7 +84,9 @@ CameraResult calibrate_camera(const Views& views, const Checkerboard& board,
   for (std::size_t i = 0; i < views.size(); ++i) {
     const std::string& file = views.name(i);
     const cv::Mat gray = view_image(views, i);
-    if (gray.empty()) return CameraResult::failure(file + ": not an image OpenCV can read");
+    if (gray.empty()) {
+      return CameraResult::failure(file + ": not an image OpenCV can read");
+    }
     if (c.images == 0) {
       c.width = gray.cols;
       c.height = gray.rows;
@@ -98,7 +108,9 @@ CameraResult calibrate_camera(const Views& views, const Checkerboard& board,
     } else {
       c.rejected.push_back(file);
     }
-    if (o.progress) o.progress(c.images, static_cast<int>(views.size()), file, ok);
+    if (o.progress) {
+      o.progress(c.images, static_cast<int>(views.size()), file, ok);
+    }
   }
   c.views = static_cast<int>(corners.size());
   const std::string board_name =
@@ -110,7 +122,9 @@ CameraResult calibrate_camera(const Views& views, const Checkerboard& board,
                     " views are needed (--min-views)";
     if (!c.rejected.empty()) {
       s += "; not found in:";
-      for (const std::string& f : c.rejected) s += " " + f;
+      for (const std::string& f : c.rejected) {
+        s += " " + f;
+      }
     }
     return CameraResult::failure(s +
                                  ". Is --board the inner corners (squares - 1) across and down?");
@@ -137,7 +151,9 @@ CameraResult calibrate_camera(const Views& views, const Checkerboard& board,
   c.fy = k.at<double>(1, 1);
   c.cx = k.at<double>(0, 2);
   c.cy = k.at<double>(1, 2);
-  for (int i = 0; i < 4; ++i) c.distortion[static_cast<std::size_t>(i)] = dist.at<double>(i);
+  for (int i = 0; i < 4; ++i) {
+    c.distortion[static_cast<std::size_t>(i)] = dist.at<double>(i);
+  }
   if (c.rms_px > o.max_rms_px) {
     char b[64];
     std::snprintf(b, sizeof b, "%.3f px", c.rms_px);

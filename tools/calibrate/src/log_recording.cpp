@@ -52,7 +52,9 @@ std::unique_ptr<LogReader> open_log(const std::string& path, std::vector<std::st
     warnings.push_back(path + " is truncated at byte " + std::to_string(log->truncated_at()) +
                        ": read up to its last whole record");
   }
-  if (!log->join_error().empty()) warnings.push_back(path + ": " + log->join_error());
+  if (!log->join_error().empty()) {
+    warnings.push_back(path + ": " + log->join_error());
+  }
   if (log->file_index() > 0) {
     warnings.push_back(path + " is file " + std::to_string(log->file_index()) +
                        " of a rotated recording (its header's file index; 0 is the file the run "
@@ -68,18 +70,24 @@ std::unique_ptr<LogReader> open_log(const std::string& path, std::vector<std::st
 void source_warnings(const std::string& path, const LogSource& source,
                      std::vector<std::string>& warnings) {
   const auto count = [&](std::uint64_t n, const char* what) {
-    if (n > 0) warnings.push_back(path + ": " + std::to_string(n) + " record(s) refused: " + what);
+    if (n > 0) {
+      warnings.push_back(path + ": " + std::to_string(n) + " record(s) refused: " + what);
+    }
   };
   count(source.payload_defects(), "the payload does not decode");
   count(source.stamps_refused(), "stamped before the log's start or beyond its span");
   count(source.out_of_place(), "stamped after the next sample of the same sensor");
-  for (const std::string& m : source.messages()) warnings.push_back(m);
+  for (const std::string& m : source.messages()) {
+    warnings.push_back(m);
+  }
 }
 
 GrayImage copied(const hal::GrayImageView& v, std::string name) {
   GrayImage g{std::move(name), v.width, v.height, {}};
   g.pixels.reserve(static_cast<std::size_t>(v.width) * static_cast<std::size_t>(v.height));
-  for (int y = 0; y < v.height; ++y) g.pixels.insert(g.pixels.end(), v.row(y), v.row(y) + v.width);
+  for (int y = 0; y < v.height; ++y) {
+    g.pixels.insert(g.pixels.end(), v.row(y), v.row(y) + v.width);
+  }
   return g;
 }
 
@@ -90,15 +98,23 @@ readers::Result<readers::Dataset> read_log_samples(const std::string& path,
   using SamplesResult = readers::Result<readers::Dataset>;
   std::string error;
   const std::unique_ptr<LogReader> log = open_log(path, warnings, error);
-  if (!log) return SamplesResult::failure(error);
+  if (!log) {
+    return SamplesResult::failure(error);
+  }
   readers::Dataset d;
   d.folder = path;
   LogSource source(*log, LogSource::Pacing::kEventTime);
   hal::SensorEvent ev;
   while (!source.exhausted()) {
-    if (!source.read(ev)) break;
-    if (ev.kind == hal::SensorEvent::Kind::kGyro) d.gyro.push_back(ev.gyro);
-    if (ev.kind == hal::SensorEvent::Kind::kEncoder) d.encoders.push_back(ev.encoder);
+    if (!source.read(ev)) {
+      break;
+    }
+    if (ev.kind == hal::SensorEvent::Kind::kGyro) {
+      d.gyro.push_back(ev.gyro);
+    }
+    if (ev.kind == hal::SensorEvent::Kind::kEncoder) {
+      d.encoders.push_back(ev.encoder);
+    }
   }
   source_warnings(path, source, warnings);
   const auto by_time = [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; };
@@ -118,7 +134,9 @@ readers::Result<LogFrames> read_log_frames(const std::string& path, int every, i
   using FramesResult = readers::Result<LogFrames>;
   std::string error;
   const std::unique_ptr<LogReader> log = open_log(path, warnings, error);
-  if (!log) return FramesResult::failure(error);
+  if (!log) {
+    return FramesResult::failure(error);
+  }
   LogFrames out;
   // Two passes: the frames are counted first, so that only the kept ones are copied.
   for (int pass = 0; pass < 2; ++pass) {
@@ -126,9 +144,15 @@ readers::Result<LogFrames> read_log_frames(const std::string& path, int every, i
     hal::SensorEvent ev;
     int with_image = 0;
     while (!source.exhausted() && source.read(ev)) {
-      if (ev.kind != hal::SensorEvent::Kind::kFrame) continue;
-      if (pass == 0) ++out.frame_records;
-      if (!ev.frame.has_image()) continue;
+      if (ev.kind != hal::SensorEvent::Kind::kFrame) {
+        continue;
+      }
+      if (pass == 0) {
+        ++out.frame_records;
+      }
+      if (!ev.frame.has_image()) {
+        continue;
+      }
       if (pass == 1 && with_image % out.every == 0) {
         out.views.images.push_back(
             copied(ev.frame.image, path + ": frame " + std::to_string(ev.frame.seq) + " at " +

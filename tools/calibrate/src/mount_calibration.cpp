@@ -49,7 +49,9 @@ std::vector<std::array<double, 3>> board_corners_on_floor(const Checkerboard& b,
 MountResult calibrate_mount(const Views& images, const Checkerboard& board,
                             const BoardOnFloor& spot, const hal::CameraCalibration& camera,
                             double max_rms_px) {
-  if (images.empty()) return MountResult::failure("no images of the board on the floor");
+  if (images.empty()) {
+    return MountResult::failure("no images of the board on the floor");
+  }
   std::vector<cv::Point3f> body_points;
   for (const auto& p : board_corners_on_floor(board, spot)) {
     body_points.emplace_back(static_cast<float>(p[0]), static_cast<float>(p[1]),
@@ -59,7 +61,9 @@ MountResult calibrate_mount(const Views& images, const Checkerboard& board,
   for (std::size_t i = 0; i < images.size(); ++i) {
     const std::string& file = images.name(i);
     const cv::Mat gray = view_image(images, i);
-    if (gray.empty()) return MountResult::failure(file + ": not an image OpenCV can read");
+    if (gray.empty()) {
+      return MountResult::failure(file + ": not an image OpenCV can read");
+    }
     std::vector<cv::Point2f> found;
     if (!find_board_corners(gray, board, found)) {
       return MountResult::failure(file + ": the " + std::to_string(board.cols) + " x " +
@@ -75,7 +79,9 @@ MountResult calibrate_mount(const Views& images, const Checkerboard& board,
     for (int way = 0; way < 4; ++way) {
       std::vector<cv::Point2f> o = reordered(v, board, way);
       double d = 0.0;
-      for (std::size_t i = 0; i < o.size(); ++i) d += cv::norm(o[i] - views.front()[i]);
+      for (std::size_t i = 0; i < o.size(); ++i) {
+        d += cv::norm(o[i] - views.front()[i]);
+      }
       if (d < least) {
         least = d;
         closest = std::move(o);
@@ -101,11 +107,15 @@ MountResult calibrate_mount(const Views& images, const Checkerboard& board,
       image.insert(image.end(), ordered.begin(), ordered.end());
     }
     cv::Vec3d r, t;
-    if (!cv::solvePnP(object, image, k, dist, r, t)) continue;
+    if (!cv::solvePnP(object, image, k, dist, r, t)) {
+      continue;
+    }
     cv::Matx33d rotation;
     cv::Rodrigues(r, rotation);
     const cv::Vec3d centre = -(rotation.t() * t);
-    if (centre[2] <= 0.0) continue;
+    if (centre[2] <= 0.0) {
+      continue;
+    }
     std::vector<cv::Point2f> projected;
     cv::projectPoints(object, r, t, k, dist, projected);
     double ss = 0.0;
@@ -136,8 +146,9 @@ MountResult calibrate_mount(const Views& images, const Checkerboard& board,
   const cv::Vec3d t_body_cam = -(r_body_cam * best_t);
   MountCalibration m;
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j)
+    for (int j = 0; j < 3; ++j) {
       m.T_body_cam[static_cast<std::size_t>(4 * i + j)] = r_body_cam(i, j);
+    }
     m.T_body_cam[static_cast<std::size_t>(4 * i + 3)] = t_body_cam[i];
   }
   m.T_body_cam[15] = 1.0;

@@ -5,7 +5,9 @@
 namespace cleanslam::calibrate {
 
 cv::Mat view_image(const Views& views, std::size_t i) {
-  if (!views.files.empty()) return cv::imread(views.files[i], cv::IMREAD_GRAYSCALE);
+  if (!views.files.empty()) {
+    return cv::imread(views.files[i], cv::IMREAD_GRAYSCALE);
+  }
   const GrayImage& g = views.images[i];
   if (g.width <= 0 || g.height <= 0 ||
       g.pixels.size() != static_cast<std::size_t>(g.width) * static_cast<std::size_t>(g.height)) {

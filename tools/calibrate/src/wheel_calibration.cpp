@@ -52,8 +52,12 @@ double gyro_angle(const std::vector<hal::GyroSample>& g, hal::TimeNs t0, hal::Ti
                   double bias) {
   double angle = 0.0;
   for (std::size_t k = 1; k < g.size(); ++k) {
-    if (g[k].t_ns <= t0) continue;
-    if (g[k].t_ns > t1) break;
+    if (g[k].t_ns <= t0) {
+      continue;
+    }
+    if (g[k].t_ns > t1) {
+      break;
+    }
     angle += (g[k].wz_rad_s - bias) * 1e-9 * static_cast<double>(g[k].t_ns - g[k - 1].t_ns);
   }
   return angle;
@@ -68,14 +72,20 @@ WheelResult calibrate_wheels(const readers::Dataset& d, const WheelCalibrationOp
     return WheelResult::failure("--straight: the straight drive's length must be positive, got " +
                                 fixed(o.straight_length_m, 3) + " m");
   }
-  if (d.encoders.size() < 2) return WheelResult::failure(enc_file + ": fewer than two samples");
-  if (d.gyro.size() < 2) return WheelResult::failure(gyro_file + ": fewer than two samples");
+  if (d.encoders.size() < 2) {
+    return WheelResult::failure(enc_file + ": fewer than two samples");
+  }
+  if (d.gyro.size() < 2) {
+    return WheelResult::failure(gyro_file + ": fewer than two samples");
+  }
   const std::vector<Interval> iv = intervals_of(d.encoders);
   WheelCalibration c;
 
   // The standstill before the first motion gives the gyro's bias.
   std::size_t first_motion = 0;
-  while (first_motion < iv.size() && iv[first_motion].motion == Motion::kStill) ++first_motion;
+  while (first_motion < iv.size() && iv[first_motion].motion == Motion::kStill) {
+    ++first_motion;
+  }
   if (first_motion == iv.size()) {
     return WheelResult::failure(enc_file +
                                 ": the wheels never move: no calibration drive in this recording");
@@ -98,8 +108,9 @@ WheelResult calibrate_wheels(const readers::Dataset& d, const WheelCalibrationOp
       ++n;
     }
   }
-  if (n == 0)
+  if (n == 0) {
     return WheelResult::failure(gyro_file + ": no sample during the standstill at the start");
+  }
   c.gyro_bias_rad_s = sum / n;
 
   // The straight drive's ticks and the gyro's heading change over it; each turn in place as its
@@ -109,13 +120,17 @@ WheelResult calibrate_wheels(const readers::Dataset& d, const WheelCalibrationOp
   };
   std::vector<Turn> turns;
   for (std::size_t k = 0; k < iv.size(); ++k) {
-    if (iv[k].motion == Motion::kMixed) ++c.mixed_intervals;
+    if (iv[k].motion == Motion::kMixed) {
+      ++c.mixed_intervals;
+    }
     if (iv[k].motion == Motion::kStraight) {
       c.straight_ticks_left += iv[k].left;
       c.straight_ticks_right += iv[k].right;
       c.straight_yaw_rad += gyro_angle(d.gyro, iv[k].t0, iv[k].t1, c.gyro_bias_rad_s);
     }
-    if (iv[k].motion != Motion::kTurn) continue;
+    if (iv[k].motion != Motion::kTurn) {
+      continue;
+    }
     Turn t;
     const hal::TimeNs t0 = iv[k].t0;
     for (; k < iv.size() && iv[k].motion == Motion::kTurn; ++k) {
@@ -130,7 +145,9 @@ WheelResult calibrate_wheels(const readers::Dataset& d, const WheelCalibrationOp
     return WheelResult::failure(
         enc_file + ": no straight forward drive (both wheels turning forward) in the recording");
   }
-  for (const Turn& t : turns) c.turn_angle_rad += std::abs(t.angle);
+  for (const Turn& t : turns) {
+    c.turn_angle_rad += std::abs(t.angle);
+  }
   c.turns = static_cast<int>(turns.size());
   if (c.turn_angle_rad < o.min_turn_rad) {
     return WheelResult::failure(

@@ -19,7 +19,7 @@ inline std::span<const Parameter<Calibration>> calibration_parameters() {
   using P = Parameter<Calibration>;
   using C = Calibration;
   constexpr double kAny = std::numeric_limits<double>::max();
-  static const std::array kTable{
+  static constexpr std::array kTable{
       P{"camera.width", [](C& c) { return parameter_field(c.camera.width); }, 320.0,
         lim::kImageWidthPx.lo, lim::kImageWidthPx.hi, false, "px",
         "the front end takes images of at most 320x240 pixels"},

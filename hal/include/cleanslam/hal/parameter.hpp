@@ -120,13 +120,13 @@ constexpr ParameterField numbers_field(std::array<double, N>& v) {
 // range.
 template <typename Config>
 struct Parameter {
-  std::string_view key;              // dotted configuration key, "section.name"
-  ParameterField (*field)(Config&);  // the member it sets
-  double default_value;              // the struct's default, as listed (a choice: its index; a
-                                     // text's default is the struct's alone)
-  double lo;                         // range [lo, hi], (lo, hi] when lo_open
-  double hi;
-  bool lo_open;
+  std::string_view key;                        // dotted configuration key, "section.name"
+  ParameterField (*field)(Config&) = nullptr;  // the member it sets
+  double default_value = 0.0;  // the struct's default, as listed (a choice: its index; a text's
+                               // default is the struct's alone)
+  double lo = 0.0;             // range [lo, hi], (lo, hi] when lo_open
+  double hi = 0.0;
+  bool lo_open = false;
   std::string_view unit;  // "" when dimensionless
   std::string_view doc;   // one line; a value out of range is refused with it
 };

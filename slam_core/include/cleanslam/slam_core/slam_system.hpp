@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 
@@ -139,8 +140,8 @@ class SlamSystem {
   std::array<int, kMaxObs> obs_feature_{};
   std::array<Observation, kMaxObs> inlier_obs_{};
   std::array<bool, kMaxObs> inlier_{};
-  std::array<double, 2 * kMaxObs> nu_{};
-  std::array<double, 4 * kMaxObs * kMaxObs> S_{};
+  std::array<double, std::size_t{2} * kMaxObs> nu_{};
+  std::array<double, std::size_t{4} * kMaxObs * kMaxObs> S_{};
   std::array<int, hal::kMaxFeaturesPerFrame> new_feature_{};
   std::array<int, hal::kMaxFeaturesPerFrame> feature_slot_{};
   std::array<int, hal::kMaxFeaturesPerFrame> remap_of_{};

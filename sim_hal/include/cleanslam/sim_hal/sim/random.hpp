@@ -21,7 +21,9 @@ class Random {
   // one sensor's parameters does not change another's noise.
   explicit Random(std::uint64_t seed, std::uint64_t stream = 0) {
     std::uint64_t st = seed ^ (stream * 0xD1B54A32D192ED03ULL);
-    for (auto& w : s_) w = splitmix64(st);
+    for (auto& w : s_) {
+      w = splitmix64(st);
+    }
   }
 
   std::uint64_t next() {
@@ -49,7 +51,9 @@ class Random {
       return spare_;
     }
     double u1 = uniform();
-    while (u1 <= 0.0) u1 = uniform();
+    while (u1 <= 0.0) {
+      u1 = uniform();
+    }
     const double u2 = uniform();
     const double r = std::sqrt(-2.0 * std::log(u1));
     const double a = 2.0 * std::numbers::pi * u2;

@@ -53,7 +53,9 @@ inline Mat3 operator*(const Mat3& a, const Mat3& b) {
 inline Mat3 transpose(const Mat3& a) {
   Mat3 r;
   for (std::size_t i = 0; i < 3; ++i) {
-    for (std::size_t j = 0; j < 3; ++j) r.m[i][j] = a.m[j][i];
+    for (std::size_t j = 0; j < 3; ++j) {
+      r.m[i][j] = a.m[j][i];
+    }
   }
   return r;
 }

@@ -188,8 +188,8 @@ class FramePipeline {
   std::array<PixelObservation, kMaxTracks> obs_{};
   std::array<int, kMaxTracks> obs_track_{};  // index into tracks_
   int obs_count_ = 0;
-  std::array<double, 2 * kMaxTracks> nu_{};
-  std::array<double, 4 * kMaxTracks * kMaxTracks> S_{};
+  std::array<double, std::size_t{2} * kMaxTracks> nu_{};
+  std::array<double, std::size_t{4} * kMaxTracks * kMaxTracks> S_{};
   std::array<bool, kMaxTracks> inlier_{};
   std::array<bool, hal::kMaxLandmarks> matched_now_{};
 

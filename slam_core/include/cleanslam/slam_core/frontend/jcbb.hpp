@@ -68,7 +68,7 @@ class Jcbb {
   int nodes_ = 0;
   // Lower-triangular Cholesky factor of the chosen observations' covariance, row-major, and
   // L^-1 nu of the chosen innovations.
-  std::array<double, kDim * kDim> L_{};
+  std::array<double, std::size_t{kDim} * kDim> L_{};
   std::array<double, kDim> y_{};
 };
 

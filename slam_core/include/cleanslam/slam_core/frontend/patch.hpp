@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <memory>
 
 #include <Eigen/Core>
@@ -21,10 +22,15 @@ inline constexpr int kStoredPatchSize = 2 * kStoredPatchRadius + 1;
 inline constexpr double kMinPatchScale = 0.6;
 inline constexpr double kMaxPatchScale = 3.0;
 
+// Index of pixel (row r, column c) of a row-major window `cols` pixels wide; r, c >= 0.
+[[nodiscard]] constexpr std::size_t pixel_index(int r, int c, int cols) {
+  return static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(c);
+}
+
 // A landmark's appearance at its first sighting, centred on the sub-pixel corner, with the
 // landmark's depth at that time (Section 3.4, feature-scale prediction).
 struct LandmarkPatch {
-  std::array<float, kStoredPatchSize * kStoredPatchSize> pixels{};
+  std::array<float, std::size_t{kStoredPatchSize} * kStoredPatchSize> pixels{};
   double first_depth_m = 0.0;
   // Where the camera was at the first sighting (when the estimator tells): the scale is then the
   // landmark's current distance estimate from there over its distance from the camera now, which
@@ -48,9 +54,9 @@ bool capture_patch(const hal::GrayImageView& image, double u_px, double v_px, do
 // zero-mean, with its gradients and the inverse of the 2x2 Gauss-Newton Hessian of the
 // inverse-compositional Lucas-Kanade (Baker and Matthews 2004).
 struct PatchTemplate {
-  std::array<float, kPatchSize * kPatchSize> zero_mean{};
-  std::array<float, kPatchSize * kPatchSize> gx{};
-  std::array<float, kPatchSize * kPatchSize> gy{};
+  std::array<float, std::size_t{kPatchSize} * kPatchSize> zero_mean{};
+  std::array<float, std::size_t{kPatchSize} * kPatchSize> gx{};
+  std::array<float, std::size_t{kPatchSize} * kPatchSize> gy{};
   float sum_sq = 0.0F;  // sum of zero_mean^2
   // Sums that let the tracker's single pass over the window form the zero-mean residual.
   float sum_gx = 0.0F;
