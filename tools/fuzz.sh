@@ -89,8 +89,13 @@ for n in "${names[@]}"; do
   echo "=== fuzz_$n: $what (log: $work.log)"
   rc=0
   start=$(date +%s)
+  # Only what this run leaves in $crashes is its failure: an earlier run's input stays there
+  # until someone removes it.
+  marker="$work.started"
+  touch "$marker"
   build/host-fuzz/bin/fuzz_"$n" "${limits[@]}" -print_final_stats=1 \
     -artifact_prefix="$crashes/" "$work" "tests/fuzz/corpus/$n" >"$work.log" 2>&1 || rc=$?
+  new_crashes=$(find "$crashes" -type f -newer "$marker" | sort)
   wall=$(($(date +%s) - start))
   grep -E '^(#[0-9]+[[:space:]]+(INITED|DONE)|==[0-9]+==ERROR|SUMMARY|stat::(number_of_executed_units|new_units_added))|fuzz_' \
     "$work.log" | tail -n 8 || true
@@ -101,15 +106,13 @@ for n in "${names[@]}"; do
   fi
   inputs=${inputs:-0}
   outcome=ok
-  if compgen -G "$crashes/*" >/dev/null; then
-    :
-  elif [ "$rc" -ne 0 ] && grep -q 'libFuzzer: run interrupted' "$work.log"; then
+  if [ -z "$new_crashes" ] && [ "$rc" -ne 0 ] && grep -q 'libFuzzer: run interrupted' "$work.log"; then
     outcome=interrupted  # stopped (Ctrl-C, SIGTERM): its inputs ran without a failure
     rc=0
   fi
-  if [ "$rc" -ne 0 ] || compgen -G "$crashes/*" >/dev/null; then
+  if [ "$rc" -ne 0 ] || [ -n "$new_crashes" ]; then
     outcome="failed(exit $rc)"
-    failed+=("$n (exit $rc, log $work.log): $(ls "$crashes" | head -n 3 | sed "s|^|$crashes/|" | tr '\n' ' ')")
+    failed+=("$n (exit $rc, log $work.log): $(head -n 3 <<<"$new_crashes" | tr '\n' ' ')")
   fi
   rate=$((inputs / (wall > 0 ? wall : 1)))
   printf '%s fuzz_%s inputs=%s seconds=%s per_second=%s outcome=%s commit=%s\n' \
