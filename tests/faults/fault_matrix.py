@@ -3,12 +3,11 @@
 fault, and the outcome each fault must have: refused with a message naming what is at fault, or
 recovered with the trajectory error within a bound (and told). Prints the table of outcomes.
 
-usage: fault_matrix.py EMULATOR BINDIR WORKDIR [CASE ...]   (EMULATOR may be "")
+usage: fault_matrix.py BINDIR WORKDIR [CASE ...]   (native builds: tests/faults/CMakeLists.txt)
 """
 import json
 import os
 import re
-import shlex
 import shutil
 import struct
 import subprocess
@@ -19,21 +18,18 @@ import zlib
 INT64_MAX = 2**63 - 1
 INT64_MIN = -(2**63)
 YEAR_NS = 365 * 86400 * 10**9
-EMU = shlex.split(sys.argv[1]) if len(sys.argv) > 1 else []
-TIMEOUT_S = 120 if EMU else 20  # a run that never ends (a stamp far in the future) is a failure
-# Rounds of two writers killed: under an emulator (correctness only) enough to see the lock and the
-# atomic save work on that platform; natively the full count.
-KILL_ROUNDS = 5 if EMU else 25
-BIN = sys.argv[2] if len(sys.argv) > 2 else "build/host-release/bin"
-WORK = sys.argv[3] if len(sys.argv) > 3 else "/tmp/fault_matrix"
-ONLY = sys.argv[4:]
+TIMEOUT_S = 20  # a run that never ends (a stamp far in the future) is a failure
+KILL_ROUNDS = 25  # rounds of two writers killed
+BIN = sys.argv[1] if len(sys.argv) > 1 else "build/host-release/bin"
+WORK = sys.argv[2] if len(sys.argv) > 2 else "/tmp/fault_matrix"
+ONLY = sys.argv[3:]
 
 
 def run(args, timeout=TIMEOUT_S):
     """(exit code or 'timeout', stderr text, seconds)"""
     t0 = time.monotonic()
     try:
-        p = subprocess.run(EMU + args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+        p = subprocess.run(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                            timeout=timeout)
         return p.returncode, p.stderr.decode(errors="replace"), time.monotonic() - t0
     except subprocess.TimeoutExpired as e:
@@ -54,7 +50,7 @@ def simulate(out, seconds, *sets):
 
 
 def ate(dataset, tum):
-    code = subprocess.run(EMU + [prog("cleanslam-eval"), "--gt",
+    code = subprocess.run([prog("cleanslam-eval"), "--gt",
                                  os.path.join(dataset, "groundtruth.csv"), "--est", tum,
                                  "--json"], capture_output=True)
     if code.returncode != 0:
@@ -206,7 +202,7 @@ def two_writers_killed(dataset, rounds=KILL_ROUNDS):
         import random
         rnd = random.Random(45)
         path = os.path.join(folder, "map.bin")
-        args = EMU + [prog("cleanslam"), "--dataset", dataset, "--set", "map.path=" + path] + MAP_SAVE
+        args = [prog("cleanslam"), "--dataset", dataset, "--set", "map.path=" + path] + MAP_SAVE
         texts, failed, refused, saved_before, t0 = [], [], 0, None, time.monotonic()
         for i in range(rounds):
             procs = [subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
