@@ -51,8 +51,8 @@ def simulate(out, seconds, *sets):
 
 def ate(dataset, tum):
     code = subprocess.run([prog("cleanslam-eval"), "--gt",
-                                 os.path.join(dataset, "groundtruth.csv"), "--est", tum,
-                                 "--json"], capture_output=True)
+                           os.path.join(dataset, "groundtruth.csv"), "--est", tum,
+                           "--json"], capture_output=True)
     if code.returncode != 0:
         return None
     return json.loads(code.stdout)["ate_rmse_m"]
@@ -90,13 +90,14 @@ def png_gray(width, height, pixels):
     def chunk(kind, data):
         c = struct.pack(">I", len(data)) + kind + data
         return c + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0))
+    header = struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header)
             + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 
 
 def image_files(folder):
     with open(os.path.join(folder, "cam0", "data.csv")) as f:
-        return [l.split(",")[1].strip() for l in f.read().splitlines()[1:] if l.strip()]
+        return [row.split(",")[1].strip() for row in f.read().splitlines()[1:] if row.strip()]
 
 
 # --- log mutations -----------------------------------------------------------------------------
@@ -224,7 +225,8 @@ def two_writers_killed(dataset, rounds=KILL_ROUNDS):
                 failed.append("round %d: map.bin %s" % (i + 1, what))
             saved_before = saved_before or ok
             if len(map_temporaries(folder)) > 2:
-                failed.append("round %d: temporaries pile up: %s" % (i + 1, map_temporaries(folder)))
+                failed.append("round %d: temporaries pile up: %s"
+                              % (i + 1, map_temporaries(folder)))
             if 2 not in codes:
                 failed.append("round %d: exits %s, none refused (2)" % (i + 1, codes))
         summary = ("%d rounds of two writers killed: map.bin whole after every round, %d second "
@@ -482,8 +484,8 @@ def issue45_input_cases(feat, feat60, imgs, base_log):
             c = struct.pack(">I", len(data)) + kind + data
             return c + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
         with open(p, "wb") as f:
-            f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 320, 240, 8, 4, 0,
-                                                                        0, 0))
+            header = struct.pack(">IIBBBBB", 320, 240, 8, 4, 0, 0, 0)
+            f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header)
                     + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 
     def link_out(p):
@@ -820,7 +822,8 @@ def main():
              r"offset \d+: gyro record: time stamp 9000000000000000000 is more than 86400 s",
              feat, bound),
         Case("log gyro stamp a year late", "recovered", log_case("log_year",
-             lambda r: set_log_stamp(r[nth(r, T_GYRO, 700)], stamp(r[nth(r, T_GYRO, 700)]) + YEAR_NS)),
+             lambda r: set_log_stamp(r[nth(r, T_GYRO, 700)],
+                                     stamp(r[nth(r, T_GYRO, 700)]) + YEAR_NS)),
              "log", r"offset \d+: gyro record: time stamp \d+ is more than 86400 s", feat, bound),
         Case("log gyro stamp INT64_MIN", "recovered", log_case("log_int64min",
              log_stamp(T_GYRO, 700, INT64_MIN)), "log",
@@ -935,10 +938,10 @@ def main():
             sys.stderr.write("--- %s: stderr ---\n%s\n" % (c.name, err[-3000:]))
 
     print("\n%-36s %-9s %-6s %-8s %-5s %s" % ("fault", "expected", "result", "ATE m", "s",
-                                               "message"))
+                                              "message"))
     for r in rows:
         print("%-36s %-9s %-6s %-8s %-5s %s" % (r[0], r[1], r[2] if r[2] == "ok" else "FAIL",
-                                                 r[3], r[4], r[5][:150]))
+                                                r[3], r[4], r[5][:150]))
         if r[2] != "ok":
             print("    " + r[2])
     print("\n%d of %d cases as expected" % (len(rows) - failures, len(rows)))

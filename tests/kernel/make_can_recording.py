@@ -13,6 +13,12 @@ import struct
 
 here = os.path.dirname(os.path.abspath(__file__))
 t0 = 1700000000.0
+
+
+def wrap24(v):
+    return ((v + (1 << 23)) % (1 << 24)) - (1 << 23)
+
+
 frames = []    # (t, id_text, payload bytes)
 expected = []  # (kind, a, b)
 
@@ -21,8 +27,8 @@ for k in range(20):
     t = k * 0.050 + 0.004
     left = left0 + 300 * k
     right = right0 - 150 * k
-    wrap = lambda v: ((v + (1 << 23)) % (1 << 24)) - (1 << 23)
-    data = struct.pack("<i", wrap(left))[:3] + struct.pack("<i", wrap(right))[:3] + bytes([k & 0xFF, 0])
+    data = (struct.pack("<i", wrap24(left))[:3] + struct.pack("<i", wrap24(right))[:3]
+            + bytes([k & 0xFF, 0]))
     frames.append((t, "101", data))
     expected.append((t, "encoder", left, right))
 

@@ -68,7 +68,7 @@ def main():
             args += ["--set", s]
         p = subprocess.run(args, capture_output=True, text=True)
         print("[%d/%d] seed %d done" % (k + 1, len(seeds), seed), file=sys.stderr, flush=True)
-        lines = [l for l in p.stdout.splitlines() if l.startswith("{")]
+        lines = [line for line in p.stdout.splitlines() if line.startswith("{")]
         if not lines or not os.path.exists(nees_file):
             sys.exit("outage_check.py failed on seed %d:\n%s" % (seed, p.stderr))
         rep = json.loads(lines[0])

@@ -50,7 +50,7 @@ def delete_window(folder, sensor, t0_ns, t1_ns):
         with open(path) as f:
             lines = f.read().splitlines()
         with open(path, "w") as f:
-            f.write("\n".join(l for l in lines if keep(l)) + "\n")
+            f.write("\n".join(line for line in lines if keep(line)) + "\n")
 
 
 def main():
@@ -121,13 +121,14 @@ def main():
             if "=" in s and s.split("=", 1)[0].split(".")[-1] == key.split(".")[-1]:
                 return float(s.split("=", 1)[1])
         name = re.escape(key.split(".")[-1])
-        m = re.search(name + r": *([0-9.eE+-]+)", log) or re.search(name + r": *([0-9.eE+-]+)",
-                                                                      sample)
+        value = name + r": *([0-9.eE+-]+)"
+        m = re.search(value, log) or re.search(value, sample)
         return float(m.group(1)) if m else None
     threshold = configured(THRESHOLD_KEY)
     # A silence no longer than the sensor's timeout is not an outage the health report tells.
     timeout = configured("%s_timeout_s" % a.sensor.rstrip("s"))
-    events = re.findall(r"t=([0-9.]+) s: (recovered: )?(gyro silent|encoders silent|camera silent|pose lost)", log)
+    events = re.findall(r"t=([0-9.]+) s: (recovered: )?"
+                        r"(gyro silent|encoders silent|camera silent|pose lost)", log)
 
     def mean_window(x, sel):
         return float(np.mean(x[sel])) if np.any(sel) else float("nan")
@@ -156,7 +157,8 @@ def main():
     if not report["nees_per_dof_worst_5s"] < a.nees_max:
         fails.append("NEES per dof %.2f over 5 s in the outage >= %.2f" % (worst, a.nees_max))
     if not report["nees_per_dof_run"] < a.nees_max:
-        fails.append("NEES per dof over the run %.2f >= %.2f" % (report["nees_per_dof_run"], a.nees_max))
+        fails.append("NEES per dof over the run %.2f >= %.2f"
+                     % (report["nees_per_dof_run"], a.nees_max))
     silent = a.sensor + " silent"
     names = [(r != "", n, float(t)) for t, r, n in events]
     went = [t for r, n, t in names if n == silent and not r]

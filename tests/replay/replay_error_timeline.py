@@ -71,6 +71,7 @@ check(m is not None and m2 is not None and
       f"scaled by 0.8: {m2.group(0) if m2 else p.stdout[-300:]} against "
       f"{m.group(0) if m else '-'}")
 
+
 # Bad input: each file replaced in turn (the others good), exit status 1 with the file named.
 def bad_input(name, text, mode, expected):
     bad = os.path.join(scaled, name)

@@ -233,8 +233,6 @@ def known_map(dataset, *args):
     return bound_tool("known_map_bound.py", dataset, "--particles", "500", *args)
 
 
-
-
 def bound_json(tool, tum):
     """The tool's process and its JSON on the default room, writing its poses to `tum`."""
     r = tool(ds, "--json", "--out", tum)

@@ -39,7 +39,8 @@ for line in open(log_path):
     if can_id in messages and len(data) == 8:
         decoded.append((can_id, decode(can_id, data)))
 
-expected = [l.strip().split(",") for l in open(expected_path) if l.strip() and l[0] != "#"]
+expected = [row.strip().split(",") for row in open(expected_path)
+            if row.strip() and row[0] != "#"]
 assert len(decoded) == len(expected), (len(decoded), len(expected))
 left_base = right_base = None
 for (can_id, d), (kind, a, b) in zip(decoded, expected):
