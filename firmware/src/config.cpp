@@ -15,6 +15,7 @@
 #include "cleanslam/readers/dataset.hpp"
 #include "cleanslam/readers/parameter_yaml.hpp"
 #include "cleanslam/readers/yaml_document.hpp"
+#include "key_history.hpp"
 #include "parameter_sections.hpp"
 
 namespace cleanslam::firmware {
@@ -171,6 +172,10 @@ ConfigResult finish(yaml::Node root, const std::vector<std::string>& overrides) 
     if (n == nullptr || n->is_null()) {
       result.calibration_not_set.emplace_back(key);
     }
+  }
+  key_history::apply(root, result.errors, result.warnings);
+  if (!result.ok()) {
+    return result;
   }
   yaml::Diagnostics d;
   if (!root.is_null()) {

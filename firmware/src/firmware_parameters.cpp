@@ -8,7 +8,6 @@ namespace cleanslam::firmware {
 namespace {
 
 using hal::choice_field;
-using hal::kibibytes_field;
 using hal::mebibytes_field;
 using hal::parameter_field;
 using hal::seconds_field;
@@ -16,7 +15,6 @@ using P = hal::Parameter<FirmwareConfig>;
 using C = FirmwareConfig;
 
 constexpr std::array<std::string_view, 3> kSourceKinds{"drivers", "dataset", "log"};
-constexpr std::array<std::string_view, 2> kSetDownPolicies{"new_map", "relocalize"};
 
 // Key, member, default, range (lo, hi, lo open), unit, meaning. A text's default is the struct's.
 constexpr std::array kFirmwareParameters{
@@ -34,11 +32,6 @@ constexpr std::array kFirmwareParameters{
       0.001, 10.0, false, "s", "encoders silent beyond this: flagged, motion model"},
     P{"loop.camera_timeout_s", [](C& c) { return seconds_field(c.loop.camera_timeout_ns); }, 3.0,
       0.01, 60.0, false, "s", "camera silent beyond this: dead reckoning only, flagged"},
-    P{"loop.max_time_skew_s", [](C& c) { return seconds_field(c.loop.max_time_skew_ns); }, 1.0,
-      0.001, 60.0, false, "s",
-      "a sample stamped further than this behind the loop's clock is a time jump"},
-    P{"loop.max_lead_s", [](C& c) { return seconds_field(c.loop.max_lead_ns); }, 0.01, 0.0, 60.0,
-      false, "s", "a sample stamped further than this ahead of the loop's clock is a time jump"},
     P{"loop.max_span_s", [](C& c) { return seconds_field(c.loop.max_span_ns); }, 86400.0, 1.0,
       3.0e7, false, "s", "a sample stamped this long after the start is a time jump"},
     P{"loop.frame_work_budget", [](C& c) { return parameter_field(c.loop.frame_work_budget); },
@@ -82,28 +75,13 @@ constexpr std::array kFirmwareParameters{
       1000.0, false, "", "path, path.1 .. path.(max_files-1) kept"},
     P{"recorder.frame_every", [](C& c) { return parameter_field(c.recorder.frame_every); }, 1.0,
       0.0, 1e6, false, "", "every k-th frame recorded (0: none); a bit-exact replay needs 1"},
-    P{"recorder.buffer_kb", [](C& c) { return kibibytes_field(c.recorder.buffer_bytes); }, 4096.0,
-      128.0, 1048576.0, false, "KiB", "records wait here for the disk"},
-    P{"recorder.write_chunk_kb", [](C& c) { return kibibytes_field(c.recorder.write_chunk_bytes); },
-      256.0, 1.0, 1048576.0, false, "KiB", "written at most per loop iteration"},
 
-    P{"robot.on_set_down",
-      [](C& c) { return choice_field(c.slam.map.on_set_down, kSetDownPolicies); }, 1.0, 0.0, 0.0,
-      false, "", "after a lift (source.lift_line): a new map, or relocalize keeping the map"},
-    P{"robot.relocalize_std_m", [](C& c) { return parameter_field(c.slam.map.relocalize_std_m); },
-      0.3, 0.0, 100.0, false, "m", "relocalize: position uncertainty added at set-down"},
-    P{"robot.relocalize_std_yaw_deg",
-      [](C& c) { return parameter_field(c.slam.map.relocalize_std_yaw_deg); }, 20.0, 0.0, 180.0,
-      false, "deg", "relocalize: heading uncertainty added at set-down"},
     P{"robot.status_led_line", [](C& c) { return parameter_field(c.robot.status_led_line); }, -1.0,
       -1.0, 1023.0, false, "",
       "GPIO output of the status LED (steady: OK, 1 Hz: degraded, 4 Hz: fault), -1: none"},
     P{"robot.gyro_ready_line", [](C& c) { return parameter_field(c.robot.gyro_ready_line); }, -1.0,
       -1.0, 1023.0, false, "",
       "GPIO input, rising edge = gyro sampled: stamps CAN gyro frames, -1: CAN reception time"},
-    P{"robot.gyro_ready_max_latency_s",
-      [](C& c) { return parameter_field(c.robot.gyro_ready_max_latency_s); }, 0.008, 0.0001, 1.0,
-      false, "s", "a gyro frame takes the latest edge at most this long before its reception"},
 
     P{"map.path", [](C& c) { return parameter_field(c.map.path); }, 0.0, 0.0, 0.0, false, "",
       "the map file, \"\" for none (the robot's package: /var/lib/cleanslam/map.bin)"},

@@ -172,7 +172,7 @@ void Loop::ingest(const hal::SensorEvent& ev, hal::TimeNs now) {
         recorder_->lift(now, ev.lifted);
       }
       if (lifted_ && !ev.lifted) {
-        estimator_.set_down(now);  // a new map or relocalization (robot.on_set_down)
+        estimator_.set_down(now);  // a new map or relocalization (map_management.on_set_down)
       }
       lifted_ = ev.lifted;
       if (lifted_) {

@@ -1,5 +1,6 @@
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cleanslam/firmware/config.hpp"
 #include "cleanslam/firmware/firmware_parameters.hpp"
@@ -20,6 +21,8 @@ constexpr const char* kHead =
 # slam_core, the firmware's own in firmware_parameters.cpp), with each key's unit and range.
 # Drivers and logs always use the `calibration` section (a log records the calibration it ran
 # with); a dataset source uses its own sensors.yaml unless calibration_from_dataset is false.
+# A key of an earlier version is still read, with a warning, so that every log replays: a renamed
+# key under today's name, a removed one only at the value the firmware now always uses.
 )yaml";
 
 constexpr const char* kCalibrationIntro =
@@ -36,26 +39,52 @@ struct SectionIntro {
 };
 
 constexpr SectionIntro kSectionIntros[] = {
-    {"filter",
-     "# The EKF (paper eq. 13-16, 25-27), its prediction from the wheels and the gyro (Section "
-     "2.3)\n# and map management."},
-    {"frontend",
-     "# The vision front end (Section 3): corners, patch tracking, search regions, data "
-     "association, landmark\n# management, bounded work per step; standing still (Section 2.4)."},
-    {"loop", "# The cooperative loop."},
-    {"source", "# Where the sensors' data come from."},
+    {"source", "# Where the sensors' data come from: the robot's devices, or a recording."},
     {"sinks", "# The robot's outputs besides the recorder."},
     {"recorder",
      "# Binary log of everything crossing the hal boundary, for replay (`cleanslam --replay "
      "LOG`)."},
-    {"robot",
-     "# The robot's GPIO lines (on source.gpio_chip) and the wheel-drop switch's policy "
-     "(drivers)."},
+    {"robot", "# The robot's GPIO lines (on source.gpio_chip)."},
     {"map",
      "# The map kept across cleaning runs (docs/architecture.md, \"Map file\"): checked at start, "
      "saved\n# atomically every save_interval_s and at the end of a run (not by `cleanslam "
      "--replay`)."},
+    {"filter",
+     "# The EKF (paper eq. 13-16, 25-27): a new landmark's ray, the sightings' noise, gates and "
+     "depth limits."},
+    {"odometry",
+     "# The prediction from the wheels and the gyro (Section 2.3): its noise, the wheels' heading "
+     "learnt\n# against the gyro, silent sensors, standing still (Section 2.4)."},
+    {"map_management",
+     "# Landmarks mapped again after a lost pose, when the pose counts as lost, and the "
+     "wheel-drop\n# switch's set-down (source.lift_line): a new map or the pose relocalized."},
+    {"frontend",
+     "# The vision front end (Section 3): corners, patch tracking, search regions, data "
+     "association,\n# landmark management."},
+    {"relocalizer",
+     "# Image frames after a relocalizing set-down: the map found again by appearance and "
+     "geometry."},
+    {"loop", "# The cooperative loop: frame and publication rates, sensor time-outs, work per step."},
 };
+
+// The sections a robot's maker sets, besides the calibration; every other section is the
+// second part's.
+constexpr std::string_view kMakerSections[] = {"source", "sinks", "recorder", "robot", "map"};
+
+constexpr const char* kPartOne =
+    R"yaml(
+# ---------------------------------------------------------------------------------------------
+# Part 1: what the robot's maker sets (calibration, devices, GPIO lines, outputs, the map file).
+# ---------------------------------------------------------------------------------------------
+)yaml";
+
+constexpr const char* kPartTwo =
+    R"yaml(
+# ---------------------------------------------------------------------------------------------
+# Part 2: the estimator's internals. Their defaults are the measured ones (docs/experiments.md);
+# a robot needs none of them set.
+# ---------------------------------------------------------------------------------------------
+)yaml";
 
 std::string_view section_intro(std::string_view section) {
   for (const SectionIntro& i : kSectionIntros) {
@@ -76,18 +105,40 @@ void sample_section(std::string& out, const std::string& prefix, const std::stri
   }
 }
 
+bool maker_section(std::string_view section) {
+  for (const std::string_view m : kMakerSections) {
+    if (m == section) {
+      return true;
+    }
+  }
+  return false;
+}
+
+void sample_top_section(std::string& out, const std::string& section,
+                        const FirmwareConfig& defaults) {
+  const std::string_view intro = section_intro(section);
+  out.append("\n").append(intro).append(intro.empty() ? "" : "\n").append(section).append(":\n");
+  sample_section(out, section + ".", "  ", defaults);
+}
+
 }  // namespace
 
 std::string sample_config_text() {
   const FirmwareConfig defaults{};
+  const std::vector<std::string> sections = parameter_sections::children("");
   std::string out = kHead;
-  readers::write_parameters(out, firmware_parameters(), "", "", defaults, true);
+  out += kPartOne;
   out += kCalibrationIntro;
   parameter_sections::write_calibration(out, defaults.calibration, true);
-  for (const std::string& section : parameter_sections::children("")) {
-    const std::string_view intro = section_intro(section);
-    out.append("\n").append(intro).append(intro.empty() ? "" : "\n").append(section).append(":\n");
-    sample_section(out, section + ".", "  ", defaults);
+  for (const std::string_view maker : kMakerSections) {
+    sample_top_section(out, std::string(maker), defaults);
+  }
+  out += kPartTwo;
+  readers::write_parameters(out, firmware_parameters(), "", "", defaults, true);
+  for (const std::string& section : sections) {
+    if (!maker_section(section)) {
+      sample_top_section(out, section, defaults);
+    }
   }
   return out;
 }

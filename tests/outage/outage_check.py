@@ -25,7 +25,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from cleanslam_eval import trajectory  # noqa: E402
 
 FILES = {"encoders": "encoders.csv", "gyro": "gyro.csv", "camera": None}
-THRESHOLD_KEY = "filter.pose_lost_position_std_m"
+THRESHOLD_KEY = "map_management.pose_lost_position_std_m"
 FOUND = 0.8
 
 

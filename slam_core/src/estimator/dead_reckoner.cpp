@@ -146,11 +146,8 @@ void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt,
         gyro_weight * gyro_weight * bi * bi * config_.gyro_bias_correlation_time_s * std::abs(dt);
   }
   const Eigen::Vector3d g_dist(c, s, 0.0);
-  const double k = calibration_.wheels.distance_noise;
-  const double scale_length_m = config_.distance_scale_correlation_m;
-  in.cov =
-      F * in.cov * F.transpose() + yaw_var * g_yaw * g_yaw.transpose() +
-      (k * k * scale_length_m * std::abs(distance) + distance_var) * g_dist * g_dist.transpose();
+  in.cov = F * in.cov * F.transpose() + yaw_var * g_yaw * g_yaw.transpose() +
+          distance_var * g_dist * g_dist.transpose();
   in.d_scale = F * in.d_scale + distance * Eigen::Vector3d(c, s, 0.0);
   in.d_bias = F * in.d_bias;
   in.d_gyro_scale = F * in.d_gyro_scale;

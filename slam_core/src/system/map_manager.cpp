@@ -129,8 +129,8 @@ void MapManager::merge_remapped(std::span<const Observation> observed) {
     Merge& m = merges_[static_cast<std::size_t>(merge_count_++)];
     m.track = owner_[ss];
     merge_target_[ss] = -1;
-    m.merged = ekf_.merge_landmarks(earlier, s, config_.remap_merge_gate_chi2) ==
-               ObservationResult::kFused;
+    // No gate: the track id says that both entries are the same point.
+    m.merged = ekf_.merge_landmarks(earlier, s, 0.0) == ObservationResult::kFused;
     m.test_ratio = ekf_.last_merge_test_ratio();
     if (m.merged) {
       owner_[static_cast<std::size_t>(earlier)] = m.track;

@@ -117,7 +117,7 @@ void SlamSystem::record(const hal::FeatureObservation& f, lf::UpdateStatus statu
 void SlamSystem::check_position_std() {
   const hal::PoseEstimate p = ekf_.body_pose_estimate(0);
   const double var = std::max(p.covariance[0], p.covariance[7]);
-  const double limit = config_.pose_lost_position_std_m;
+  const double limit = config_.map.pose_lost_position_std_m;
   const double found = kPoseFoundStdFraction * limit;
   if (var > limit * limit) {
     position_std_exceeded_ = true;

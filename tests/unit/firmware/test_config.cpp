@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cleanslam/firmware/config.hpp"
@@ -173,40 +175,23 @@ TEST(Config, AMissingFileIsAnErrorNamingIt) {
 
 TEST(Config, RemapKeysParseAndAreRangeChecked) {
   const ConfigResult r = parse_config(
-      "filter:\n  remap_pixel_std_px: 0\n  remap_min_yaw_std_deg: 10\n"
-      "  remap_max_mapped_in_view: 4\n  remap_merge_gate_chi2: 11.34\n"
-      "  remap_merge_consider_earlier: false\n",
+      "map_management:\n  remap_pixel_std_px: 0\n  remap_min_yaw_std_deg: 10\n"
+      "  remap_max_mapped_in_view: 4\n",
       "r.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_TRUE(FirmwareConfig{}.slam.filter.merge_considers_kept);
-  EXPECT_FALSE(r.config.slam.filter.merge_considers_kept);
   EXPECT_EQ(r.config.slam.map.remap_pixel_std_px, 0.0);
   EXPECT_EQ(r.config.slam.map.remap_min_yaw_std_deg, 10.0);
   EXPECT_EQ(r.config.slam.map.remap_max_mapped_in_view, 4);
-  EXPECT_EQ(r.config.slam.map.remap_merge_gate_chi2, 11.34);
   const ConfigResult bad = parse_config(
-      "filter:\n  remap_pixel_std_px: -1\n  remap_min_yaw_std_deg: 200\n"
-      "  remap_max_mapped_in_view: -2\n  remap_merge_gate_chi2: x\n"
-      "  remap_merge_consider_earlier: 2\n",
+      "map_management:\n  remap_pixel_std_px: -1\n  remap_min_yaw_std_deg: 200\n"
+      "  remap_max_mapped_in_view: -2\n",
       "b.yaml", {});
-  ASSERT_EQ(bad.errors.size(), 5U) << joined(bad.errors);
+  ASSERT_EQ(bad.errors.size(), 3U) << joined(bad.errors);
   const std::string all = joined(bad.errors);
-  EXPECT_NE(all.find("b.yaml:2: filter.remap_pixel_std_px"), std::string::npos) << all;
-  EXPECT_NE(all.find("b.yaml:3: filter.remap_min_yaw_std_deg"), std::string::npos) << all;
-  EXPECT_NE(all.find("b.yaml:4: filter.remap_max_mapped_in_view"), std::string::npos) << all;
-  EXPECT_NE(all.find("b.yaml:5: filter.remap_merge_gate_chi2"), std::string::npos) << all;
-  EXPECT_NE(all.find("b.yaml:6: filter.remap_merge_consider_earlier"), std::string::npos) << all;
-}
-
-TEST(Config, InvariantResetIsOnByDefaultAndParses) {
-  EXPECT_TRUE(FirmwareConfig{}.slam.filter.invariant_reset);
-  const ConfigResult r = parse_config("filter:\n  invariant_reset: false\n", "i.yaml", {});
-  ASSERT_TRUE(r.ok()) << joined(r.errors);
-  EXPECT_FALSE(r.config.slam.filter.invariant_reset);
-  const ConfigResult bad = parse_config("filter:\n  invariant_reset: 2\n", "b.yaml", {});
-  ASSERT_EQ(bad.errors.size(), 1U) << joined(bad.errors);
-  EXPECT_NE(joined(bad.errors).find("b.yaml:2: filter.invariant_reset"), std::string::npos)
-      << joined(bad.errors);
+  EXPECT_NE(all.find("b.yaml:2: map_management.remap_pixel_std_px"), std::string::npos) << all;
+  EXPECT_NE(all.find("b.yaml:3: map_management.remap_min_yaw_std_deg"), std::string::npos) << all;
+  EXPECT_NE(all.find("b.yaml:4: map_management.remap_max_mapped_in_view"), std::string::npos)
+      << all;
 }
 
 TEST(Config, CalibrationGyroErrorKeysParseAndAreRangeChecked) {
@@ -223,29 +208,103 @@ TEST(Config, CalibrationGyroErrorKeysParseAndAreRangeChecked) {
 }
 
 TEST(Config, WheelYawFusionKeysParseAndAreRangeChecked) {
-  EXPECT_TRUE(FirmwareConfig{}.slam.odometry.wheel_yaw.enabled);
   const ConfigResult r = parse_config(
-      "filter:\n  wheel_yaw_fusion: false\n  wheel_yaw_window_intervals: 20\n"
+      "odometry:\n  wheel_yaw_window_intervals: 20\n"
       "  wheel_yaw_gate_chi2: 9\n  wheel_yaw_scale_std: 0.1\n"
       "  wheel_yaw_drift_std_rad_per_m: 0.3\n  wheel_yaw_correlation_time_s: 100\n",
       "w.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
   const slam_core::SlamConfig& f = r.config.slam;
-  EXPECT_FALSE(f.odometry.wheel_yaw.enabled);
   EXPECT_EQ(f.odometry.wheel_yaw.window_intervals, 20);
   EXPECT_EQ(f.odometry.wheel_yaw.gate_chi2, 9.0);
   EXPECT_EQ(f.odometry.wheel_yaw.scale_std, 0.1);
   EXPECT_EQ(f.odometry.wheel_yaw.drift_std_rad_per_m, 0.3);
   EXPECT_EQ(f.odometry.wheel_yaw.calibration_correlation_time_s, 100.0);
   const ConfigResult bad = parse_config(
-      "filter:\n  wheel_yaw_window_intervals: 0\n  wheel_yaw_gate_chi2: 0\n"
+      "odometry:\n  wheel_yaw_window_intervals: 0\n  wheel_yaw_gate_chi2: 0\n"
       "  wheel_yaw_correlation_time_s: -1\n",
       "x.yaml", {});
   ASSERT_EQ(bad.errors.size(), 3U) << joined(bad.errors);
   const std::string all = joined(bad.errors);
-  EXPECT_NE(all.find("x.yaml:2: filter.wheel_yaw_window_intervals"), std::string::npos) << all;
-  EXPECT_NE(all.find("x.yaml:3: filter.wheel_yaw_gate_chi2"), std::string::npos) << all;
-  EXPECT_NE(all.find("x.yaml:4: filter.wheel_yaw_correlation_time_s"), std::string::npos) << all;
+  EXPECT_NE(all.find("x.yaml:2: odometry.wheel_yaw_window_intervals"), std::string::npos) << all;
+  EXPECT_NE(all.find("x.yaml:3: odometry.wheel_yaw_gate_chi2"), std::string::npos) << all;
+  EXPECT_NE(all.find("x.yaml:4: odometry.wheel_yaw_correlation_time_s"), std::string::npos)
+      << all;
+}
+
+// Every log recorded before the sections were renamed and the internals made constants holds
+// every key of then: the sample of then (every key at its default) reads to today's defaults.
+TEST(Config, TheSampleBeforeTheSectionsWereRenamedLoadsToTheSameConfiguration) {
+  const ConfigResult r = load_config(
+      std::string(CLEANSLAM_SOURCE_DIR) + "/tests/unit/firmware/data/sample_before_sections.yaml",
+      {});
+  ASSERT_TRUE(r.ok()) << joined(r.errors);
+  EXPECT_EQ(config_text(r.config), config_text(FirmwareConfig{}));
+  ASSERT_EQ(r.warnings.size(), 2U) << joined(r.warnings);
+  EXPECT_NE(r.warnings[0].find("filter.encoder_yaw_noise_rad_per_sqrt_m is now "
+                               "odometry.encoder_yaw_noise_rad_per_sqrt_m"),
+            std::string::npos)
+      << r.warnings[0];
+  EXPECT_NE(r.warnings[1].find("at the value the firmware now always uses"), std::string::npos)
+      << r.warnings[1];
+}
+
+TEST(Config, AFormerNameSetsTodaysKeyAndMayNotBeSetBesideIt) {
+  const ConfigResult r = parse_config(
+      "filter:\n  eps_ct_m: 40\n  wheel_yaw_scale_std: 0.1\nfrontend:\n  relocalizer:\n"
+      "    min_inliers: 5\nrobot:\n  on_set_down: new_map\n",
+      "old.yaml", {"filter.remap_pixel_std_px=12"});
+  ASSERT_TRUE(r.ok()) << joined(r.errors);
+  EXPECT_EQ(r.config.slam.filter.eps_ct_m, 40.0);
+  EXPECT_EQ(r.config.slam.odometry.wheel_yaw.scale_std, 0.1);
+  EXPECT_EQ(r.config.slam.relocalizer.min_inliers, 5);
+  EXPECT_EQ(r.config.slam.map.on_set_down, slam_core::MapConfig::SetDown::kNewMap);
+  EXPECT_EQ(r.config.slam.map.remap_pixel_std_px, 12.0);
+  ASSERT_EQ(r.warnings.size(), 1U) << joined(r.warnings);
+  EXPECT_NE(r.warnings[0].find("4 key(s) under a former name"), std::string::npos)
+      << r.warnings[0];
+  // Out of range under a former name: refused as today's key, at the line written.
+  const ConfigResult range = parse_config("filter:\n  wheel_yaw_scale_std: 11\n", "o.yaml", {});
+  ASSERT_EQ(range.errors.size(), 1U) << joined(range.errors);
+  EXPECT_NE(range.errors[0].find("o.yaml:2: odometry.wheel_yaw_scale_std"), std::string::npos)
+      << range.errors[0];
+  const ConfigResult both = parse_config(
+      "filter:\n  wheel_yaw_scale_std: 0.1\nodometry:\n  wheel_yaw_scale_std: 0.2\n", "b.yaml",
+      {});
+  ASSERT_EQ(both.errors.size(), 1U) << joined(both.errors);
+  EXPECT_NE(both.errors[0].find("b.yaml:2: filter.wheel_yaw_scale_std: the former name of "
+                                "odometry.wheel_yaw_scale_std, which is set too"),
+            std::string::npos)
+      << both.errors[0];
+}
+
+TEST(Config, ARemovedKeyIsReadOnlyAtTheValueTheFirmwareAlwaysUses) {
+  const ConfigResult same = parse_config(
+      "filter:\n  invariant_reset: true\n  remap_merge_gate_chi2: 0.0\n"
+      "  max_abs_pitch_rad: 1.4\nfrontend:\n  tracker:\n    max_iterations: 20\n",
+      "s.yaml", {});
+  ASSERT_TRUE(same.ok()) << joined(same.errors);
+  EXPECT_EQ(config_text(same.config), config_text(FirmwareConfig{}));
+  ASSERT_EQ(same.warnings.size(), 1U) << joined(same.warnings);
+  EXPECT_NE(same.warnings[0].find("4 former key(s)"), std::string::npos) << same.warnings[0];
+  const ConfigResult off = parse_config(
+      "filter:\n  invariant_reset: false\n  distance_scale_correlation_m: 5\n"
+      "frontend:\n  tracker:\n    max_iterations: 30\n",
+      "o.yaml", {});
+  ASSERT_EQ(off.errors.size(), 3U) << joined(off.errors);
+  const std::string all = joined(off.errors);
+  EXPECT_NE(all.find("o.yaml:2: filter.invariant_reset: no longer a key: the firmware always "
+                     "uses 1"),
+            std::string::npos)
+      << all;
+  EXPECT_NE(all.find("o.yaml:3: filter.distance_scale_correlation_m: no longer a key: the "
+                     "firmware always uses 0"),
+            std::string::npos)
+      << all;
+  EXPECT_NE(all.find("o.yaml:6: frontend.tracker.max_iterations: no longer a key: the firmware "
+                     "always uses 20"),
+            std::string::npos)
+      << all;
 }
 
 // The estimator's switches measured and removed (docs/experiments.md) are unknown keys now: a
@@ -300,11 +359,16 @@ std::string value_text(hal::ParameterType type, double v) {
 // included), range checked, and written back by config_text.
 TEST(ParameterConfig, EveryTableKeyIsSetByItsConfigurationKey) {
   for (const auto& p : slam_core::slam_parameters()) {
-    const double v = hal::parameter_type(p) == hal::ParameterType::kBool ? 1.0 - p.default_value
-                     : p.hi != p.default_value                           ? p.hi
-                                                                         : p.lo + 1.0;
+    const bool flag = hal::parameter_type(p) == hal::ParameterType::kBool ||
+                      hal::parameter_type(p) == hal::ParameterType::kChoice;
+    const double v = flag ? 1.0 - p.default_value : p.hi != p.default_value ? p.hi : p.lo + 1.0;
     ASSERT_TRUE(hal::parameter_in_range(p, v)) << p.key;
-    const std::string set = std::string(p.key) + "=" + value_text(hal::parameter_type(p), v);
+    std::string value = value_text(hal::parameter_type(p), v);
+    if (hal::parameter_type(p) == hal::ParameterType::kChoice) {
+      slam_core::SlamConfig probe{};
+      value = std::string(p.field(probe).choices[static_cast<std::size_t>(v)]);
+    }
+    const std::string set = std::string(p.key) + "=" + value;
     const ConfigResult r = parse_config("", "t.yaml", {set, "loop.frame_rate_hz=2"});
     ASSERT_TRUE(r.ok()) << set << "\n" << joined(r.errors);
     EXPECT_TRUE(r.warnings.empty()) << joined(r.warnings);
@@ -317,7 +381,7 @@ TEST(ParameterConfig, EveryTableKeyIsSetByItsConfigurationKey) {
     ASSERT_TRUE(back.ok()) << joined(back.errors);
     EXPECT_EQ(config_text(back.config), config_text(r.config)) << p.key;
     // Out of range: an error naming the file, line and key; the default stays.
-    if (hal::parameter_type(p) != hal::ParameterType::kBool) {
+    if (!flag) {
       const std::string section(p.key.substr(0, p.key.rfind('.')));
       const std::string name(p.key.substr(p.key.rfind('.') + 1));
       std::string text;
@@ -423,6 +487,74 @@ TEST(ParameterConfig, FrontEndKeysReachThePipelineAndUnknownNestedKeysAreErrors)
   EXPECT_EQ(fe.tracker.min_ncc, 0.7F);
   EXPECT_EQ(fe.book.min_in_view, 3);
   EXPECT_EQ(fe.region.max_half_extent_px, 25.0);
+}
+
+}  // namespace
+}  // namespace cleanslam
+
+namespace cleanslam {
+namespace {
+
+// Whether the member a key sets lies inside `block`, a member of `config`.
+template <typename Config, typename Block>
+bool sets_inside(const hal::Parameter<Config>& p, Config& config, const Block& block) {
+  const auto value = reinterpret_cast<std::uintptr_t>(p.field(config).value);
+  const auto begin = reinterpret_cast<std::uintptr_t>(&block);
+  return value >= begin && value < begin + sizeof(Block);
+}
+
+// A section's name says what it sets: each key of a section sets a member of the struct the
+// section is named after (EveryTableKeyIsSetByItsConfigurationKey and
+// EachFirmwareKeySetsTheMemberItNamesAndNoOther prove that it sets its own member).
+TEST(ParameterConfig, EachSectionSetsTheStructItIsNamedAfter) {
+  FirmwareConfig c{};
+  slam_core::SlamConfig& s = c.slam;
+  for (const auto& p : slam_core::slam_parameters()) {
+    const std::string_view section = p.key.substr(0, p.key.find('.'));
+    const bool inside = section == "filter"           ? sets_inside(p, s, s.filter)
+                        : section == "odometry"       ? sets_inside(p, s, s.odometry)
+                        : section == "map_management" ? sets_inside(p, s, s.map)
+                        : section == "frontend"       ? sets_inside(p, s, s.frontend)
+                        : section == "relocalizer"    ? sets_inside(p, s, s.relocalizer)
+                                                      : false;
+    EXPECT_TRUE(inside) << p.key;
+  }
+  for (const auto& p : firmware_parameters()) {
+    const auto dot = p.key.find('.');
+    const std::string_view section = p.key.substr(0, dot);
+    const bool inside = dot == std::string_view::npos
+                            ? p.field(c).value == &c.calibration_from_dataset
+                        : section == "loop"     ? sets_inside(p, c, c.loop)
+                        : section == "source"   ? sets_inside(p, c, c.source)
+                        : section == "sinks"    ? sets_inside(p, c, c.sinks)
+                        : section == "recorder" ? sets_inside(p, c, c.recorder)
+                        : section == "robot"    ? sets_inside(p, c, c.robot)
+                        : section == "map"      ? sets_inside(p, c, c.map)
+                                                : false;
+    EXPECT_TRUE(inside) << p.key;
+  }
+}
+
+// The sample's first part is what a robot's maker sets: at most 40 keys, each with its meaning.
+TEST(ParameterConfig, TheMakersPartOfTheSampleHasAtMost40DocumentedKeys) {
+  const std::string sample = firmware::sample_config_text();
+  const auto one = sample.find("# Part 1:");
+  const auto two = sample.find("# Part 2:");
+  ASSERT_NE(one, std::string::npos);
+  ASSERT_NE(two, std::string::npos);
+  std::istringstream part(sample.substr(one, two - one));
+  int keys = 0;
+  for (std::string line; std::getline(part, line);) {
+    const auto start = line.find_first_not_of(' ');
+    const auto colon = line.find(": ");
+    if (start == std::string::npos || line[start] == '#' || colon == std::string::npos) {
+      continue;
+    }
+    ++keys;
+    EXPECT_NE(line.find("  # ", colon), std::string::npos) << "undocumented: " << line;
+  }
+  EXPECT_GT(keys, 0);
+  EXPECT_LE(keys, 40);
 }
 
 }  // namespace

@@ -42,31 +42,32 @@ using test::joined;
 
 TEST(RobotConfig, SetDownPolicyAndLinesAreReadAndValidated) {
   const auto r = parse_config(
-      "robot:\n  on_set_down: relocalize\n  relocalize_std_m: 0.5\n  status_led_line: 4\n"
-      "  gyro_ready_line: 7\n  gyro_ready_max_latency_s: 0.004\n",
+      "map_management:\n  on_set_down: relocalize\n  relocalize_std_m: 0.5\nrobot:\n"
+      "  status_led_line: 4\n  gyro_ready_line: 7\n",
       "r.yaml", {});
   ASSERT_TRUE(r.ok()) << joined(r.errors);
   EXPECT_EQ(r.config.slam.map.on_set_down, slam_core::MapConfig::SetDown::kRelocalize);
   EXPECT_EQ(r.config.slam.map.relocalize_std_m, 0.5);
   EXPECT_EQ(r.config.robot.status_led_line, 4);
   EXPECT_EQ(r.config.robot.gyro_ready_line, 7);
-  EXPECT_EQ(r.config.robot.gyro_ready_max_latency_s, 0.004);
   EXPECT_EQ(FirmwareConfig{}.slam.map.on_set_down, slam_core::MapConfig::SetDown::kRelocalize);
   const auto back = parse_config(firmware::config_text(r.config), "back", {});
   ASSERT_TRUE(back.ok()) << joined(back.errors);
   EXPECT_EQ(back.config.slam.map.on_set_down, slam_core::MapConfig::SetDown::kRelocalize);
 
   const auto bad = parse_config(
-      "robot:\n  on_set_down: teleport\n  status_led_line: -2\n  relocalize_std_yaw_deg: 400\n",
+      "map_management:\n  on_set_down: teleport\n  relocalize_std_yaw_deg: 400\nrobot:\n"
+      "  status_led_line: -2\n",
       "bad.yaml", {"robot.gyro_ready_line=2000"});
   ASSERT_EQ(bad.errors.size(), 4U) << joined(bad.errors);
   const std::string all = joined(bad.errors);
-  EXPECT_NE(all.find("bad.yaml:2: robot.on_set_down: \"teleport\" is not one of new_map, "
+  EXPECT_NE(all.find("bad.yaml:2: map_management.on_set_down: \"teleport\" is not one of new_map, "
                      "relocalize"),
             std::string::npos)
       << all;
-  EXPECT_NE(all.find("bad.yaml:3: robot.status_led_line"), std::string::npos) << all;
-  EXPECT_NE(all.find("bad.yaml:4: robot.relocalize_std_yaw_deg"), std::string::npos) << all;
+  EXPECT_NE(all.find("bad.yaml:3: map_management.relocalize_std_yaw_deg"), std::string::npos)
+      << all;
+  EXPECT_NE(all.find("bad.yaml:5: robot.status_led_line"), std::string::npos) << all;
   EXPECT_NE(all.find("robot.gyro_ready_line: 2000 is out of range"), std::string::npos) << all;
 }
 
@@ -195,7 +196,7 @@ struct KidnappedRun {
 
   std::vector<hal::PoseEstimate> run(const std::string& policy) const {
     auto ds = readers::DatasetSource::open(dir);
-    auto cfg = parse_config("", "", {"robot.on_set_down=" + policy});
+    auto cfg = parse_config("", "", {"map_management.on_set_down=" + policy});
     if (!ds.ok() || !cfg.ok()) {
       ADD_FAILURE() << (ds.ok() ? joined(cfg.errors) : ds.error());
       return {};

@@ -5,7 +5,7 @@
 
 #include "feature_run.hpp"
 
-// filter.remap_pixel_std_px: a re-sighted landmark whose predicted pixel is too uncertain to
+// map_management.remap_pixel_std_px: a re-sighted landmark whose predicted pixel is too uncertain to
 // linearize about is mapped again from its ray; the new entry is merged into the earlier one when
 // its track ends (or its depth has converged).
 namespace firmware = cleanslam::firmware;

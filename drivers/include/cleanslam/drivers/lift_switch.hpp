@@ -12,7 +12,7 @@
 namespace cleanslam::drivers {
 
 // The driver only reports lifted / set down; what set-down means is the firmware's
-// robot.on_set_down (relocalize or a new map).
+// map_management.on_set_down (relocalize or a new map).
 struct LiftSwitchConfig {
   GpioLineConfig gpio;  // active level = lifted
   // Edges within this time of an accepted change are bounce; the level is re-read after it.

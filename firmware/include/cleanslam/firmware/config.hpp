@@ -35,7 +35,7 @@ struct SinkSettings {
 };
 
 // The robot's GPIO wiring (lines of source.gpio_chip). What the wheel-drop switch means
-// (robot.on_set_down, relocalize_std_m, relocalize_std_yaw_deg) is the estimator's
+// (map_management.on_set_down, relocalize_std_m, relocalize_std_yaw_deg) is the estimator's
 // slam_core::MapConfig.
 struct RobotSettings {
   int status_led_line = -1;  // GPIO output: steady OK, slow blink degraded, fast blink fault

@@ -55,13 +55,10 @@ struct DeadReckoningConfig {
   double outage_speed_time_constant_s = 10.0;
   double outage_speed_std_m_s = 0.1;
   double outage_yaw_rate_std_rad_s = 1.0;
-  // Errors that persist across increments (the within-increment terms above treat them as
-  // independent per increment), inflated by their correlation time or length: the gyro bias
-  // (std. dev. gyro.bias_instability) adds bias_instability^2 * T * dt to the heading variance,
-  // the distance scale (std. dev. wheels.distance_noise) adds distance_noise^2 * L * |d| along
-  // the track; 0 disables either.
+  // The gyro bias persists across increments (the within-increment terms above treat it as
+  // independent per increment): its std. dev. gyro.bias_instability adds bias_instability^2 * T *
+  // dt to the heading variance, T this correlation time; 0 disables it.
   double gyro_bias_correlation_time_s = 10.0;
-  double distance_scale_correlation_m = 0.0;
   // Relative gyro scale error, one value within an increment (like the distance scale).
   double gyro_scale_error = 0.005;
   // The heading from the gyro and the wheels together (wheel_yaw_fusion.hpp); off: the gyro's.

@@ -19,8 +19,6 @@ struct MapConfig {
   double remap_min_yaw_std_deg = 3.0;
   // ... only in frames with at most this many mapped landmarks in view.
   int remap_max_mapped_in_view = 2;
-  // The merge's chi-square gate (3 dof); 0: none.
-  double remap_merge_gate_chi2 = 0.0;
   // Frames with track ids: no visual update with fewer inliers.
   int features_min_inliers = 1;
   // After a set-down (the wheel-drop switch released): a new map, or the map kept and the pose
@@ -30,10 +28,13 @@ struct MapConfig {
   SetDown on_set_down = SetDown::kRelocalize;
   double relocalize_std_m = 0.3;
   double relocalize_std_yaw_deg = 20.0;
+  // The pose is lost while the position's std. dev. (the larger of x and y) exceeds this.
+  double pose_lost_position_std_m = 0.5;
 };
 
 // Everything the estimator is configured with. Each key is listed once, with its name, default,
-// range, unit and meaning, in the parameter table.
+// range, unit and meaning, in the parameter table, whose sections are these members' names
+// (`map_management` for `map`).
 struct SlamConfig {
   EkfConfig filter;
   DeadReckoningConfig odometry;
@@ -41,8 +42,6 @@ struct SlamConfig {
   MapConfig map;
   // Image frames after a relocalizing set-down: the map found again by appearance and geometry.
   RelocalizerConfig relocalizer;
-  // The pose is lost while the position's std. dev. (the larger of x and y) exceeds this.
-  double pose_lost_position_std_m = 0.5;
   // Work of one bounded part of the EKF's batch update (Ekf::set_update_step); 0: unbounded.
   std::int64_t update_work_step = 0;
 };

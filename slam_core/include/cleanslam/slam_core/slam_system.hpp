@@ -45,7 +45,7 @@ class SlamSystem {
   // the map goes dormant until the Relocalizer finds it in a frame.
   void set_down(hal::TimeNs t_ns);
   // Relocalizing and no visual update since the set-down (image frames: the map not found again),
-  // or the position's std. dev. beyond SlamConfig::pose_lost_position_std_m (from the prediction
+  // or the position's std. dev. beyond MapConfig::pose_lost_position_std_m (from the prediction
   // or update that passed it until one brings it below kPoseFoundStdFraction of it).
   [[nodiscard]] bool pose_lost() const;
   static constexpr double kPoseFoundStdFraction = 0.8;
