@@ -84,7 +84,8 @@ constexpr RemovedKey kRemovedKeys[] = {
     {"filter.max_extrapolation_s", [](const C& c) { return c.slam.odometry.max_extrapolation_s; }},
     {"filter.outage_yaw_rate_std_rad_s",
      [](const C& c) { return c.slam.odometry.outage_yaw_rate_std_rad_s; }},
-    {"frontend.standstill_window_s", [](const C& c) { return c.slam.odometry.standstill_window_s; }},
+    {"frontend.standstill_window_s",
+     [](const C& c) { return c.slam.odometry.standstill_window_s; }},
     {"frontend.standstill_max_ticks",
      [](const C& c) { return static_cast<double>(c.slam.odometry.standstill_max_ticks); }},
     {"frontend.duplicate_px", [](const C& c) { return c.slam.frontend.duplicate_px; }},
@@ -263,8 +264,22 @@ bool same_value(double written, double fixed) {
   return std::abs(written - fixed) <= 1e-12 * std::max(1.0, std::abs(fixed));
 }
 
-std::string location_of(const yaml::Node::Entry& e) {
-  return e.key_location.line > 0 ? e.key_location.str() + ": " : std::string();
+// A former key found in a document: its entry's place and "file:line: key" for messages.
+struct Found {
+  std::vector<std::pair<yaml::Node*, std::size_t>> path;
+  const yaml::Node::Entry* entry = nullptr;
+  std::string where;
+};
+
+Found find_former(yaml::Node& root, std::string_view key) {
+  Found f;
+  f.path = find_entry(root, key);
+  if (!f.path.empty()) {
+    f.entry = &f.path.back().first->entries[f.path.back().second];
+    f.where = (f.entry->key_location.line > 0 ? f.entry->key_location.str() + ": " : "") +
+              std::string(key);
+  }
+  return f;
 }
 
 }  // namespace
@@ -274,20 +289,19 @@ void apply(yaml::Node& root, std::vector<std::string>& errors, std::vector<std::
   std::string first_renamed;
   int renamed = 0;
   for (const RenamedKey& r : kRenamedKeys) {
-    const auto path = find_entry(root, r.former);
-    if (path.empty()) {
+    const Found f = find_former(root, r.former);
+    if (f.entry == nullptr) {
       continue;
     }
-    const yaml::Node::Entry& e = path.back().first->entries[path.back().second];
-    const std::string where = location_of(e) + std::string(r.former);
+    const std::string& where = f.where;
     if (!find_entry(root, r.key).empty()) {
       errors.push_back(where + ": the former name of " + std::string(r.key) +
                        ", which is set too; keep one");
       continue;
     }
-    yaml::Node value = e.value;
-    const yaml::Location at = e.key_location;
-    erase_entry(path);
+    yaml::Node value = f.entry->value;
+    const yaml::Location at = f.entry->key_location;
+    erase_entry(f.path);
     if (!insert_entry(root, r.key, std::move(value), at)) {
       errors.push_back(where + ": the former name of " + std::string(r.key) +
                        ", whose section is not a mapping");
@@ -299,27 +313,25 @@ void apply(yaml::Node& root, std::vector<std::string>& errors, std::vector<std::
   }
   if (renamed > 0) {
     warnings.push_back(std::to_string(renamed) + " key(s) under a former name, read as today's (" +
-                       first_renamed +
-                       "); `cleanslam --print-sample-config` prints today's names");
+                       first_renamed + "); `cleanslam --print-sample-config` prints today's names");
   }
   std::string first_removed;
   int removed = 0;
   for (const RemovedKey& r : kRemovedKeys) {
-    const auto path = find_entry(root, r.key);
-    if (path.empty()) {
+    const Found f = find_former(root, r.key);
+    if (f.entry == nullptr) {
       continue;
     }
-    const yaml::Node::Entry& e = path.back().first->entries[path.back().second];
-    const std::string where = location_of(e) + std::string(r.key);
     const double fixed = r.value(today);
     double v = 0.0;
-    if (!former_value(e.value, v) || !same_value(v, fixed)) {
-      errors.push_back(where + ": no longer a key: the firmware always uses " +
+    if (!former_value(f.entry->value, v) || !same_value(v, fixed)) {
+      errors.push_back(f.where + ": no longer a key: the firmware always uses " +
                        readers::format_double(fixed) + " (docs/experiments.md), not " +
-                       e.value.describe());
+                       f.entry->value.describe());
       continue;
     }
-    erase_entry(path);
+    const std::string where = f.where;
+    erase_entry(f.path);
     if (removed++ == 0) {
       first_removed = where;
     }

@@ -64,7 +64,8 @@ constexpr SectionIntro kSectionIntros[] = {
     {"relocalizer",
      "# Image frames after a relocalizing set-down: the map found again by appearance and "
      "geometry."},
-    {"loop", "# The cooperative loop: frame and publication rates, sensor time-outs, work per step."},
+    {"loop",
+     "# The cooperative loop: frame and publication rates, sensor time-outs, work per step."},
 };
 
 // The sections a robot's maker sets, besides the calibration; every other section is the

@@ -41,8 +41,8 @@ const char* explain(Reject r) {
     case Reject::kOutOfOrder:
       return "samples whose time stamp is not after the previous one of the same sensor";
     case Reject::kTimeJump:
-      return "samples stamped more than loop.max_time_skew_s behind the loop's clock, more than "
-             "loop.max_lead_s ahead of it, or past the run's span (loop.max_span_s)";
+      return "samples stamped too far behind or ahead of the loop's clock (LoopConfig's "
+             "max_time_skew_ns, max_lead_ns), or past the run's span (loop.max_span_s)";
     case Reject::kNonFinite:
       return "samples with NaN or infinity";
     case Reject::kFrameRate:

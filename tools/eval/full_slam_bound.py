@@ -24,7 +24,7 @@ basin. It shares no code with the estimator; it takes a pinhole camera (no disto
 second measurement of the heading change, theta = (1 + s) w - c d with the wheels' heading scale s
 and drift per metre c as two more unknowns (priors 0.2 and 0.5 rad/m), its noise distance_noise
 per wheel and encoder interval: the bound for an estimator that fuses the wheels' heading
-(cleanslam's filter.wheel_yaw_fusion).
+(cleanslam's, odometry.wheel_yaw_*).
 
 Prints the dead reckoner's ATE and the smoothed trajectory's, both relative to the first frame (as
 cleanslam-eval --align none), at the frames with features, and two RMS position standard

@@ -15,8 +15,8 @@ draws, per scenario and seed, each configuration's SLAM ATE as a fraction of dea
 --bound adds, per dataset, full_slam_bound.py --wheel-heading's filtering standard deviation (what
 a causal estimator that fuses the wheels' heading, as the defaults do, can expect on those data;
 about 10 s a seed) to the table and the plot. Each configuration's SLAM is compared with the dead
-reckoning of its own run; when the configurations' dead reckonings differ (filter.wheel_yaw_fusion
-is part of it), the table gives each its own DR column.
+reckoning of its own run; when the configurations' dead reckonings differ (the odometry.wheel_yaw_*
+keys are part of it), the table gives each its own DR column.
 Exit status 0 unless a run failed to execute (1) or the arguments are wrong (2).
 """
 

@@ -147,7 +147,7 @@ void DeadReckoner::step(double distance, double dyaw, double yaw_var, double dt,
   }
   const Eigen::Vector3d g_dist(c, s, 0.0);
   in.cov = F * in.cov * F.transpose() + yaw_var * g_yaw * g_yaw.transpose() +
-          distance_var * g_dist * g_dist.transpose();
+           distance_var * g_dist * g_dist.transpose();
   in.d_scale = F * in.d_scale + distance * Eigen::Vector3d(c, s, 0.0);
   in.d_bias = F * in.d_bias;
   in.d_gyro_scale = F * in.d_gyro_scale;

@@ -228,8 +228,7 @@ TEST(Config, WheelYawFusionKeysParseAndAreRangeChecked) {
   const std::string all = joined(bad.errors);
   EXPECT_NE(all.find("x.yaml:2: odometry.wheel_yaw_window_intervals"), std::string::npos) << all;
   EXPECT_NE(all.find("x.yaml:3: odometry.wheel_yaw_gate_chi2"), std::string::npos) << all;
-  EXPECT_NE(all.find("x.yaml:4: odometry.wheel_yaw_correlation_time_s"), std::string::npos)
-      << all;
+  EXPECT_NE(all.find("x.yaml:4: odometry.wheel_yaw_correlation_time_s"), std::string::npos) << all;
 }
 
 // Every log recorded before the sections were renamed and the internals made constants holds
@@ -261,16 +260,14 @@ TEST(Config, AFormerNameSetsTodaysKeyAndMayNotBeSetBesideIt) {
   EXPECT_EQ(r.config.slam.map.on_set_down, slam_core::MapConfig::SetDown::kNewMap);
   EXPECT_EQ(r.config.slam.map.remap_pixel_std_px, 12.0);
   ASSERT_EQ(r.warnings.size(), 1U) << joined(r.warnings);
-  EXPECT_NE(r.warnings[0].find("4 key(s) under a former name"), std::string::npos)
-      << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("4 key(s) under a former name"), std::string::npos) << r.warnings[0];
   // Out of range under a former name: refused as today's key, at the line written.
   const ConfigResult range = parse_config("filter:\n  wheel_yaw_scale_std: 11\n", "o.yaml", {});
   ASSERT_EQ(range.errors.size(), 1U) << joined(range.errors);
   EXPECT_NE(range.errors[0].find("o.yaml:2: odometry.wheel_yaw_scale_std"), std::string::npos)
       << range.errors[0];
   const ConfigResult both = parse_config(
-      "filter:\n  wheel_yaw_scale_std: 0.1\nodometry:\n  wheel_yaw_scale_std: 0.2\n", "b.yaml",
-      {});
+      "filter:\n  wheel_yaw_scale_std: 0.1\nodometry:\n  wheel_yaw_scale_std: 0.2\n", "b.yaml", {});
   ASSERT_EQ(both.errors.size(), 1U) << joined(both.errors);
   EXPECT_NE(both.errors[0].find("b.yaml:2: filter.wheel_yaw_scale_std: the former name of "
                                 "odometry.wheel_yaw_scale_std, which is set too"),

@@ -5,9 +5,9 @@
 
 #include "feature_run.hpp"
 
-// map_management.remap_pixel_std_px: a re-sighted landmark whose predicted pixel is too uncertain to
-// linearize about is mapped again from its ray; the new entry is merged into the earlier one when
-// its track ends (or its depth has converged).
+// map_management.remap_pixel_std_px: a re-sighted landmark whose predicted pixel is too uncertain
+// to linearize about is mapped again from its ray; the new entry is merged into the earlier one
+// when its track ends (or its depth has converged).
 namespace firmware = cleanslam::firmware;
 namespace hal = cleanslam::hal;
 namespace lf = cleanslam::hal::log;

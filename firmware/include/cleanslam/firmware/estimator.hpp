@@ -39,7 +39,7 @@ struct ObservationRejections {
   int count = 0;
 };
 
-// The wheel heading fusion's calibration at the end of a run (filter.wheel_yaw_fusion).
+// The wheel heading fusion's calibration at the end of a run (odometry.wheel_yaw_*).
 struct WheelYawReport {
   double scale = 0.0;  // s: theta = (1 + s) w - c d
   double scale_std = 0.0;

@@ -84,9 +84,9 @@ enum class UpdateStatus : std::uint8_t {
   kSkipped = 4,       // no update: too few inliers or standing still
   kNoSlot = 5,        // map full, not initialized
   kMerged = 6,        // a landmark mapped again merged into its earlier entry (slot: that entry)
-  kMergeGated = 7,    // the same refused by the merge's gate: the earlier entry was deleted
+  kMergeGated = 7,    // the same refused by the merge: the earlier entry was deleted
   kDepthBound = 8,    // the update would have moved the landmark behind the camera or past the
-                      // workspace (filter.depth_bounds, max_depth_m)
+                      // workspace (filter.min_depth_m, max_depth_m)
   kBehindCamera = 9,  // the landmark's estimate is behind the camera: no prediction
 };
 inline constexpr int kUpdateStatusCount = 10;

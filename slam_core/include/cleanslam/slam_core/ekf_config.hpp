@@ -4,6 +4,9 @@
 
 namespace cleanslam::slam_core {
 
+// The members the parameter table lists are configuration keys (filter.*); the others keep these
+// values in the firmware. The flags are the mechanisms measured on (docs/experiments.md, "Always
+// on"): unit tests turn one off to compare it with the plain EKF it changes.
 struct EkfConfig {
   // Eq. 14-15: std. dev. along the ray; the paper's range is 30 m .. 1000 m.
   double eps_ct_m = 30.0;

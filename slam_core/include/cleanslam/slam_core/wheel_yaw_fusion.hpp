@@ -23,7 +23,7 @@
 namespace cleanslam::slam_core {
 
 struct WheelYawFusionConfig {
-  bool enabled = true;
+  bool enabled = true;        // always in the firmware; unit tests compare with the gyro's heading
   int window_intervals = 40;  // encoder intervals per calibration update (2 s at 20 Hz)
   // A window (or a single interval) whose squared mismatch exceeds gate_chi2 times its variance
   // is not fused: one wheel slipped.
