@@ -17,6 +17,7 @@
 #include "cleanslam/readers/yaml_document.hpp"
 #include "key_history.hpp"
 #include "parameter_sections.hpp"
+#include "yaml_paths.hpp"
 
 namespace cleanslam::firmware {
 
@@ -112,51 +113,14 @@ bool apply_override(yaml::Node& root, const std::string& item, std::vector<std::
     value->location.file = std::make_shared<const std::string>(origin);
     value->location.line = 1;
   }
-  yaml::Node* node = &root;
-  std::size_t start = 0;
-  while (true) {
-    const auto dot = key.find('.', start);
-    const std::string part = key.substr(start, dot == std::string::npos ? dot : dot - start);
-    if (part.empty()) {
-      errors.push_back(origin + ": empty key component");
-      return false;
-    }
-    if (node->is_null()) {
-      node->kind = yaml::Node::Kind::kMapping;
-      node->location = value->location;
-    }
-    if (!node->is_mapping()) {
-      errors.push_back(origin + ": " + key.substr(0, start - 1) + " is not a mapping");
-      return false;
-    }
-    yaml::Node::Entry* entry = nullptr;
-    for (auto& e : node->entries) {
-      if (e.key == part) {
-        entry = &e;
-      }
-    }
-    if (entry == nullptr) {
-      node->entries.push_back(yaml::Node::Entry{part, value->location, yaml::Node{}});
-      entry = &node->entries.back();
-    }
-    if (dot == std::string::npos) {
-      entry->value = *value;
-      return true;
-    }
-    node = &entry->value;
-    start = dot + 1;
+  std::string error;
+  yaml::Node* slot = yaml_paths::make(root, key, value->location, error);
+  if (slot == nullptr) {
+    errors.push_back(origin + ": " + error);
+    return false;
   }
-}
-
-// The node at the dotted `key` below `root`, or nullptr.
-const yaml::Node* find_dotted(const yaml::Node& root, std::string_view key) {
-  const yaml::Node* node = &root;
-  while (node != nullptr && !key.empty()) {
-    const auto dot = key.find('.');
-    node = node->find(key.substr(0, dot));
-    key = dot == std::string_view::npos ? std::string_view() : key.substr(dot + 1);
-  }
-  return node;
+  *slot = *value;
+  return true;
 }
 
 ConfigResult finish(yaml::Node root, const std::vector<std::string>& overrides) {
@@ -168,7 +132,7 @@ ConfigResult finish(yaml::Node root, const std::vector<std::string>& overrides) 
     return result;
   }
   for (const char* key : kMeasuredCalibrationKeys) {
-    const yaml::Node* n = find_dotted(root, key);
+    const yaml::Node* n = yaml_paths::find(root, key);
     if (n == nullptr || n->is_null()) {
       result.calibration_not_set.emplace_back(key);
     }

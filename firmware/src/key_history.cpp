@@ -8,6 +8,7 @@
 #include "cleanslam/firmware/config.hpp"
 #include "cleanslam/hal/time.hpp"
 #include "cleanslam/readers/dataset.hpp"
+#include "yaml_paths.hpp"
 
 namespace cleanslam::firmware::key_history {
 
@@ -203,40 +204,6 @@ void erase_entry(std::vector<std::pair<yaml::Node*, std::size_t>> path) {
   }
 }
 
-// Sets the dotted `key` below `root` to `value`, making the mappings on its way; false when a
-// non-mapping is in the way.
-bool insert_entry(yaml::Node& root, std::string_view key, yaml::Node value,
-                  const yaml::Location& where) {
-  yaml::Node* node = &root;
-  while (true) {
-    if (node->is_null()) {
-      node->kind = yaml::Node::Kind::kMapping;
-      node->location = where;
-    }
-    if (!node->is_mapping()) {
-      return false;
-    }
-    const auto dot = key.find('.');
-    const std::string part(key.substr(0, dot));
-    yaml::Node::Entry* entry = nullptr;
-    for (auto& e : node->entries) {
-      if (e.key == part) {
-        entry = &e;
-      }
-    }
-    if (entry == nullptr) {
-      node->entries.push_back(yaml::Node::Entry{part, where, yaml::Node{}});
-      entry = &node->entries.back();
-    }
-    if (dot == std::string_view::npos) {
-      entry->value = std::move(value);
-      return true;
-    }
-    node = &entry->value;
-    key = key.substr(dot + 1);
-  }
-}
-
 // The number or flag a former key's scalar holds, as the firmware of then read it.
 bool former_value(const yaml::Node& node, double& out) {
   if (!node.is_scalar() || node.quoted) {
@@ -294,7 +261,7 @@ void apply(yaml::Node& root, std::vector<std::string>& errors, std::vector<std::
       continue;
     }
     const std::string& where = f.where;
-    if (!find_entry(root, r.key).empty()) {
+    if (yaml_paths::find(root, r.key) != nullptr) {
       errors.push_back(where + ": the former name of " + std::string(r.key) +
                        ", which is set too; keep one");
       continue;
@@ -302,11 +269,14 @@ void apply(yaml::Node& root, std::vector<std::string>& errors, std::vector<std::
     yaml::Node value = f.entry->value;
     const yaml::Location at = f.entry->key_location;
     erase_entry(f.path);
-    if (!insert_entry(root, r.key, std::move(value), at)) {
-      errors.push_back(where + ": the former name of " + std::string(r.key) +
-                       ", whose section is not a mapping");
+    std::string error;
+    yaml::Node* slot = yaml_paths::make(root, r.key, at, error);
+    if (slot == nullptr) {
+      errors.push_back(where);
+      errors.back().append(": the former name of ").append(r.key).append(", where ").append(error);
       continue;
     }
+    *slot = std::move(value);
     if (renamed++ == 0) {
       first_renamed = where + " is now " + std::string(r.key);
     }

@@ -164,7 +164,11 @@ TEST(Config, SetOverridesFileValuesAndCreatesSections) {
   ASSERT_EQ(malformed.errors.size(), 1U);
   EXPECT_NE(malformed.errors[0].find("novalue"), std::string::npos);
   const ConfigResult into_scalar = parse_config("loop: 3\n", "s.yaml", {"loop.x=1"});
-  EXPECT_FALSE(into_scalar.ok());
+  ASSERT_EQ(into_scalar.errors.size(), 1U) << joined(into_scalar.errors);
+  EXPECT_EQ(into_scalar.errors[0], "--set loop.x: loop is not a mapping");
+  const ConfigResult empty_part = parse_config("", "s.yaml", {"loop..x=1"});
+  ASSERT_EQ(empty_part.errors.size(), 1U) << joined(empty_part.errors);
+  EXPECT_EQ(empty_part.errors[0], "--set loop..x: empty key component");
 }
 
 TEST(Config, AMissingFileIsAnErrorNamingIt) {
@@ -273,6 +277,13 @@ TEST(Config, AFormerNameSetsTodaysKeyAndMayNotBeSetBesideIt) {
                                 "odometry.wheel_yaw_scale_std, which is set too"),
             std::string::npos)
       << both.errors[0];
+  const ConfigResult scalar =
+      parse_config("filter:\n  wheel_yaw_scale_std: 0.1\nodometry: 3\n", "s.yaml", {});
+  ASSERT_EQ(scalar.errors.size(), 1U) << joined(scalar.errors);
+  EXPECT_NE(scalar.errors[0].find("s.yaml:2: filter.wheel_yaw_scale_std: the former name of "
+                                  "odometry.wheel_yaw_scale_std, where odometry is not a mapping"),
+            std::string::npos)
+      << scalar.errors[0];
 }
 
 TEST(Config, ARemovedKeyIsReadOnlyAtTheValueTheFirmwareAlwaysUses) {
