@@ -125,8 +125,11 @@ bool apply_override(yaml::Node& root, const std::string& item, std::vector<std::
 
 ConfigResult finish(yaml::Node root, const std::vector<std::string>& overrides) {
   ConfigResult result;
-  for (const auto& o : overrides) {
-    apply_override(root, o, result.errors);
+  // A document that is not a mapping of sections takes no override: read_all says what it is.
+  if (root.is_null() || root.is_mapping()) {
+    for (const auto& o : overrides) {
+      apply_override(root, o, result.errors);
+    }
   }
   if (!result.ok()) {
     return result;

@@ -169,6 +169,9 @@ TEST(Config, SetOverridesFileValuesAndCreatesSections) {
   const ConfigResult empty_part = parse_config("", "s.yaml", {"loop..x=1"});
   ASSERT_EQ(empty_part.errors.size(), 1U) << joined(empty_part.errors);
   EXPECT_EQ(empty_part.errors[0], "--set loop..x: empty key component");
+  const ConfigResult scalar_document = parse_config("3\n", "s.yaml", {"loop.x=1", "map.y=2"});
+  ASSERT_EQ(scalar_document.errors.size(), 1U) << joined(scalar_document.errors);
+  EXPECT_EQ(scalar_document.errors[0], "s.yaml:1: expected a mapping, got \"3\"");
 }
 
 TEST(Config, AMissingFileIsAnErrorNamingIt) {
